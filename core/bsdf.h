@@ -1,0 +1,78 @@
+// The glTF 2.0 metallic-roughness BSDF at one surface point.
+//
+// Conventions (as pbrt-v4): all directions are unit vectors in world space pointing away from
+// the surface; wo points towards the viewer (or the previous vertex), wi towards the light.
+// f() excludes the cosine factor; pdf() is per unit solid angle; neither includes delta lobes,
+// which only sample() returns. Reflection versus transmission is decided by the geometric
+// normal, so that shading normals cannot leak light through a surface.
+#pragma once
+
+#include "core/material.h"
+#include "core/math.h"
+
+#include <cstdint>
+#include <optional>
+
+namespace penumbra {
+
+// Lobe flags so that a tracer can ask what a BSDF has ("any non-delta lobe?") and what a
+// sample came from (Mitsuba's BSDFFlags, Tungsten's BsdfLobes). Heckbert's path classes map
+// onto them: Diffuse and rough Glossy are D vertices, Specular (delta) lobes are S vertices.
+enum BsdfLobe : uint32_t {
+    kLobeNone = 0,
+    kLobeReflection = 1u << 0,
+    kLobeTransmission = 1u << 1,
+    kLobeDiffuse = 1u << 2,
+    kLobeGlossy = 1u << 3,
+    kLobeSpecular = 1u << 4,  // a Dirac delta in direction
+};
+
+// Radiance: tracing from the eye; Importance: tracing from the lights (photons). They differ in
+// the (1/eta^2) scaling of refraction (Veach 1997, section 5.2).
+enum class TransportMode { Radiance, Importance };
+
+struct BsdfSample {
+    Color f{0.0f};       // BSDF value (for a delta lobe: its weight divided by |cos theta_i|)
+    Vec3 wi{0.0f};
+    float pdf = 0.0f;    // solid angle; for a delta lobe the discrete probability of the lobe
+    uint32_t lobe = kLobeNone;
+    float eta = 1.0f;    // relative IOR crossed by a transmission sample (1 otherwise)
+
+    bool isDelta() const { return (lobe & kLobeSpecular) != 0; }
+};
+
+class Bsdf {
+public:
+    // shading: frame of the shading normal (after normal mapping); ng: unit geometric normal on
+    // the front side of the surface (counter-clockwise winding).
+    Bsdf(const ShadingParams& params, const Frame& shading, const Vec3& ng);
+
+    Color f(const Vec3& wo, const Vec3& wi, TransportMode mode = TransportMode::Radiance) const;
+    float pdf(const Vec3& wo, const Vec3& wi) const;
+    // Samples wi given wo. uLobe picks the lobe, u the direction within it. Returns nothing when
+    // the sample carries no energy (below the horizon, total internal reflection of a lobe with
+    // no reflection counterpart, ...). The path weight is f * |cos(wi, shading normal)| / pdf.
+    std::optional<BsdfSample> sample(const Vec3& wo, float uLobe, const Vec2& u,
+                                     TransportMode mode = TransportMode::Radiance) const;
+
+    // Union of the lobes this BSDF has at this point.
+    uint32_t lobes() const { return lobes_; }
+    bool hasNonDeltaLobe() const { return (lobes_ & (kLobeDiffuse | kLobeGlossy)) != 0; }
+
+    // Thin-walled transmission (KHR_materials_volume thickness 0): the light that passes
+    // straight through, not bent, per channel, for light arriving along -wo. Tracers treat it as
+    // transparency (a shadow ray's transmittance, a path continuing unchanged), not as a
+    // scattering vertex, so it is NOT part of f(), pdf() or sample(). Zero for other materials.
+    Color straightTransmittance(const Vec3& wo) const;
+
+    // Albedo of the Lambertian layer alone (what a radiosity solver treats as rho).
+    Color diffuseReflectance() const;
+
+private:
+    ShadingParams params_;
+    Frame shading_;
+    Vec3 ng_;
+    uint32_t lobes_ = kLobeNone;
+};
+
+}  // namespace penumbra

@@ -1,0 +1,97 @@
+#include "core/sampling.h"
+
+#include <algorithm>
+#include <numeric>
+
+namespace penumbra {
+
+Vec2 sampleConcentricDisk(Vec2 u) {
+    const Vec2 offset = 2.0f * u - Vec2(1.0f);
+    if (offset.x == 0.0f && offset.y == 0.0f) return Vec2(0.0f);
+    float r, theta;
+    if (std::abs(offset.x) > std::abs(offset.y)) {
+        r = offset.x;
+        theta = (kPi / 4.0f) * (offset.y / offset.x);
+    } else {
+        r = offset.y;
+        theta = kPi / 2.0f - (kPi / 4.0f) * (offset.x / offset.y);
+    }
+    return r * Vec2(std::cos(theta), std::sin(theta));
+}
+
+Vec3 sampleCosineHemisphere(Vec2 u) {
+    const Vec2 d = sampleConcentricDisk(u);
+    const float z = safeSqrt(1.0f - d.x * d.x - d.y * d.y);
+    return Vec3(d.x, d.y, z);
+}
+
+Vec3 sampleUniformSphere(Vec2 u) {
+    const float z = 1.0f - 2.0f * u.x;
+    const float r = safeSqrt(1.0f - z * z);
+    const float phi = 2.0f * kPi * u.y;
+    return Vec3(r * std::cos(phi), r * std::sin(phi), z);
+}
+
+Vec3 sampleUniformCone(Vec2 u, float cosMax) {
+    const float cosTheta = (1.0f - u.x) + u.x * cosMax;
+    const float sinTheta = safeSqrt(1.0f - cosTheta * cosTheta);
+    const float phi = 2.0f * kPi * u.y;
+    return Vec3(sinTheta * std::cos(phi), sinTheta * std::sin(phi), cosTheta);
+}
+
+Vec3 sampleUniformTriangle(Vec2 u) {
+    float b0, b1;
+    if (u.x < u.y) {
+        b0 = u.x / 2.0f;
+        b1 = u.y - b0;
+    } else {
+        b1 = u.y / 2.0f;
+        b0 = u.x - b1;
+    }
+    return Vec3(b0, b1, 1.0f - b0 - b1);
+}
+
+AliasTable::AliasTable(std::span<const float> weights) {
+    const size_t n = weights.size();
+    if (n == 0) return;
+    const double total = std::accumulate(weights.begin(), weights.end(), 0.0);
+    pmf_.resize(n);
+    bins_.resize(n);
+    if (!(total > 0.0)) {
+        pmf_.clear();
+        bins_.clear();
+        return;
+    }
+    // Vose's construction: scaled probabilities n p_i split into small (< 1) and large work lists.
+    std::vector<double> scaled(n);
+    std::vector<uint32_t> small, large;
+    for (size_t i = 0; i < n; ++i) {
+        pmf_[i] = static_cast<float>(weights[i] / total);
+        scaled[i] = weights[i] / total * static_cast<double>(n);
+        (scaled[i] < 1.0 ? small : large).push_back(static_cast<uint32_t>(i));
+    }
+    while (!small.empty() && !large.empty()) {
+        const uint32_t s = small.back();
+        small.pop_back();
+        const uint32_t l = large.back();
+        bins_[s] = {static_cast<float>(scaled[s]), l};
+        scaled[l] -= 1.0 - scaled[s];
+        if (scaled[l] < 1.0) {
+            large.pop_back();
+            small.push_back(l);
+        }
+    }
+    // Leftovers are 1 up to rounding.
+    for (uint32_t i : large) bins_[i] = {1.0f, i};
+    for (uint32_t i : small) bins_[i] = {1.0f, i};
+}
+
+uint32_t AliasTable::sample(float u) const {
+    const size_t n = bins_.size();
+    const float scaled = u * static_cast<float>(n);
+    const uint32_t index = std::min(static_cast<uint32_t>(scaled), static_cast<uint32_t>(n - 1));
+    const float up = std::min(scaled - static_cast<float>(index), 0.99999994f);
+    return up < bins_[index].threshold ? index : bins_[index].alias;
+}
+
+}  // namespace penumbra

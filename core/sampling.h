@@ -1,0 +1,63 @@
+// Warps from the unit square to directions and shapes, discrete sampling, and MIS weights.
+// Every function states the measure of the pdf it returns.
+#pragma once
+
+#include "core/math.h"
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace penumbra {
+
+// Cosine-weighted hemisphere around +z, Malley's method with Shirley and Chiu's concentric
+// disk mapping (Shirley and Chiu 1997, "A Low Distortion Map Between Disk and Square").
+// pdf (solid angle) = cos(theta) / pi.
+Vec3 sampleCosineHemisphere(Vec2 u);
+inline float cosineHemispherePdf(float cosTheta) { return glm::max(cosTheta, 0.0f) * kInvPi; }
+
+Vec2 sampleConcentricDisk(Vec2 u);
+
+// Uniform direction on the unit sphere; pdf (solid angle) = 1 / (4 pi).
+Vec3 sampleUniformSphere(Vec2 u);
+
+// Uniform direction in the cone around +z with cos(half angle) = cosMax;
+// pdf (solid angle) = 1 / (2 pi (1 - cosMax)).
+Vec3 sampleUniformCone(Vec2 u, float cosMax);
+
+// Uniform barycentrics (b0, b1, b2) on a triangle, area-preserving square-to-triangle map of
+// Heitz 2019, "A Low-Distortion Map Between Triangle and Square" (Eq. 3); pdf (area) = 1 / A.
+Vec3 sampleUniformTriangle(Vec2 u);
+
+// Power heuristic with beta = 2 for one sample of each strategy
+// (Veach and Guibas 1995, "Optimally Combining Sampling Techniques", Eq. 9).
+inline float powerHeuristic(float pdfA, float pdfB) {
+    const float a = pdfA * pdfA;
+    const float b = pdfB * pdfB;
+    if (std::isinf(a)) return 1.0f;
+    return a + b > 0.0f ? a / (a + b) : 0.0f;
+}
+
+// Walker's alias method (Walker 1977; Vose 1991 construction) for O(1) sampling of a discrete
+// distribution proportional to non-negative weights. Zero weights are never chosen.
+class AliasTable {
+public:
+    AliasTable() = default;
+    explicit AliasTable(std::span<const float> weights);
+
+    // Index drawn with probability pmf(index), from one uniform number in [0, 1).
+    uint32_t sample(float u) const;
+    float pmf(uint32_t index) const { return pmf_[index]; }
+    size_t size() const { return pmf_.size(); }
+    bool empty() const { return pmf_.empty(); }
+
+private:
+    struct Bin {
+        float threshold;  // probability of keeping this bin's own index
+        uint32_t alias;
+    };
+    std::vector<Bin> bins_;
+    std::vector<float> pmf_;
+};
+
+}  // namespace penumbra

@@ -1,0 +1,77 @@
+// The first stage of scene loading: everything read from a glTF file, validated, flattened to
+// world space, and still remembering where each thing came from. `Scene` (scene.h) is built from
+// it and adds the acceleration structure and the light list.
+#pragma once
+
+#include "core/material.h"
+#include "core/math.h"
+#include "core/texture.h"
+
+#include <array>
+#include <string>
+#include <vector>
+
+namespace penumbra {
+
+// One glTF primitive instanced by one node, in world space.
+struct Mesh {
+    std::string name;    // "<mesh name or index>/<primitive index>" for messages and reports
+    std::string source;  // JSON pointer of the primitive, e.g. "/meshes/3/primitives/0"
+    int material = -1;   // index into SceneDescription::materials (the default material if absent)
+
+    std::vector<Vec3> positions;  // world space, metres
+    std::vector<Vec3> normals;    // world space, unit; empty = use the geometric normal
+    std::vector<Vec4> tangents;   // world space xyz + handedness w; empty when not needed
+    std::array<std::vector<Vec2>, 2> uvs;  // TEXCOORD_0 and TEXCOORD_1 (may be empty)
+    // Vertex indices, counter-clockwise = front face. Winding is already flipped for
+    // negative-determinant node transforms; degenerate triangles are already dropped.
+    std::vector<glm::uvec3> triangles;
+};
+
+enum class PunctualType { Point, Spot, Directional };
+
+// KHR_lights_punctual light placed by a node, in world space.
+struct PunctualLightDesc {
+    std::string name;
+    PunctualType type = PunctualType::Point;
+    Color color{1.0f};
+    float intensity = 1.0f;  // candela (point, spot) or lux (directional)
+    float range = 0.0f;      // 0 = infinite
+    float innerConeAngle = 0.0f;
+    float outerConeAngle = kPi / 4.0f;
+    Vec3 position{0.0f};
+    Vec3 direction{0.0f, 0.0f, -1.0f};  // direction the light travels (node's -Z), unit
+};
+
+enum class ProjectionType { Perspective, Orthographic };
+
+struct CameraDesc {
+    std::string name;
+    ProjectionType projection = ProjectionType::Perspective;
+    float yfov = 0.8f;         // radians (perspective)
+    float aspectRatio = 0.0f;  // 0 = not given
+    float xmag = 1.0f, ymag = 1.0f;  // half extents (orthographic)
+    float znear = 0.01f;
+    Mat4 cameraToWorld{1.0f};  // rigid: the camera looks down its -Z, +Y up
+};
+
+// What the loader noticed, for `penumbra info` and warnings.
+struct LoadReport {
+    std::vector<std::string> extensionsUsed;     // supported and used
+    std::vector<std::string> extensionsIgnored;  // used by the file, not supported (not required)
+    size_t degenerateTriangles = 0;              // dropped
+    std::vector<std::string> warnings;
+};
+
+struct SceneDescription {
+    std::string file;  // path as given
+    std::vector<Mesh> meshes;
+    std::vector<Material> materials;  // last entry is the glTF default material when used
+    std::vector<Texture> textures;
+    std::vector<PunctualLightDesc> lights;
+    std::vector<CameraDesc> cameras;
+    std::string sceneExtrasJson;  // the loaded scene's `extras` as JSON text (e.g. a sky), or empty
+    LoadReport report;
+};
+
+}  // namespace penumbra
