@@ -65,14 +65,36 @@ public:
     // scattering vertex, so it is NOT part of f(), pdf() or sample(). Zero for other materials.
     Color straightTransmittance(const Vec3& wo) const;
 
-    // Albedo of the Lambertian layer alone (what a radiosity solver treats as rho).
+    // Unit shading normal (after normal mapping), on the front side of the geometric normal.
+    const Vec3& shadingNormal() const { return shading_.n; }
+
+    // Albedo of the Lambertian layer alone (what a radiosity solver treats as rho): its
+    // hemispherical-hemispherical reflectance, i.e. the fraction of uniform (diffuse) incident
+    // light that the diffuse lobe reflects, (1 - metallic) (1 - transmission) baseColor
+    // (1 - E_avg), E_avg being the average albedo of the specular layer above it.
     Color diffuseReflectance() const;
 
 private:
-    ShadingParams params_;
-    Frame shading_;
+    // One wo in the local frame, with the quantities every query about it needs.
+    struct Query;
+
+    std::optional<Query> query(const Vec3& wo) const;
+    Vec3 toLocal(const Vec3& w, bool front) const;
+    Vec3 toWorld(const Vec3& w, bool front) const;
+    Color specularAlbedo(float cosTheta) const;
+    Color mirrorFresnel(const Query& q, float cosTheta) const;
+    Color evalF(const Query& q, const Vec3& wi, TransportMode mode) const;
+    float evalPdf(const Query& q, const Vec3& wi) const;
+
+    ShadingParams params_;  // clamped to the ranges of the glTF spec
+    Frame shading_;         // normal turned to the side of ng_
     Vec3 ng_;
     uint32_t lobes_ = kLobeNone;
+    float alpha_ = 0.0f;    // GGX alpha = roughness^2
+    bool smooth_ = false;   // alpha below GgxDistribution::kSmoothAlpha: delta lobes
+    Color f0_{0.0f};        // dielectric normal-incidence reflectance
+    Color albedoAvg_{0.0f};  // E_avg of the dielectric specular layer (Kelemen coupling)
+    bool hasDiffuse_ = false, hasReflection_ = false, hasRefraction_ = false;
 };
 
 }  // namespace penumbra

@@ -10,7 +10,7 @@ namespace penumbra {
 
 // Base of every error caused by the user's input rather than by a bug in penumbra.
 class InputError : public std::runtime_error {
-public:
+  public:
     using std::runtime_error::runtime_error;
 };
 
@@ -18,14 +18,14 @@ public:
 // file name and names the place in it as a JSON pointer, e.g.
 // "box.gltf: /meshes/3/primitives/0/indices: index 812 past the vertex count 800".
 class SceneError : public InputError {
-public:
+  public:
     SceneError(const std::string& file, const std::string& pointer, const std::string& what)
         : InputError(file + (pointer.empty() ? "" : ": " + pointer) + ": " + what) {}
 };
 
 // A pass script (TOML) error, "script.toml:42:17: pass.epsilon: expected ...".
 class ScriptError : public InputError {
-public:
+  public:
     ScriptError(const std::string& file, int line, int column, const std::string& what)
         : InputError(file + ":" + std::to_string(line) + ":" + std::to_string(column) + ": " +
                      what) {}
@@ -33,7 +33,7 @@ public:
 
 // Bad command-line usage or option values.
 class UsageError : public InputError {
-public:
+  public:
     using InputError::InputError;
 };
 

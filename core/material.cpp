@@ -5,7 +5,8 @@
 namespace penumbra {
 
 Color Material::absorption() const {
-    if (!std::isfinite(attenuationDistance) || attenuationDistance <= 0.0f) return Color(0.0f);
+    if (!std::isfinite(attenuationDistance) || attenuationDistance <= 0.0f)
+        return Color(0.0f);
     // sigma_a = -ln(c) / d  (KHR_materials_volume, "Properties"); a zero channel absorbs fully
     // over any finite distance, represented by a large finite coefficient.
     Color sigma;
@@ -18,7 +19,8 @@ Color Material::absorption() const {
 
 Vec4 lookup(const TextureRef& ref, std::span<const Texture> textures, std::span<const Vec2> uvs,
             Vec4 fallback) {
-    if (!ref.valid() || ref.texture >= static_cast<int>(textures.size())) return fallback;
+    if (!ref.valid() || ref.texture >= static_cast<int>(textures.size()))
+        return fallback;
     const Vec2 uv = ref.texCoord < static_cast<int>(uvs.size()) ? uvs[ref.texCoord] : Vec2(0.0f);
     return textures[ref.texture].sample(ref.transform.apply(uv));
 }
@@ -26,8 +28,8 @@ Vec4 lookup(const TextureRef& ref, std::span<const Texture> textures, std::span<
 ShadingParams evaluateMaterial(const Material& m, std::span<const Texture> textures,
                                std::span<const Vec2> uvs) {
     ShadingParams p;
-    p.baseColor = glm::clamp(m.baseColor * Color(lookup(m.baseColorTexture, textures, uvs)),
-                             0.0f, 1.0f);
+    p.baseColor =
+        glm::clamp(m.baseColor * Color(lookup(m.baseColorTexture, textures, uvs)), 0.0f, 1.0f);
     const Vec4 mr = lookup(m.metallicRoughnessTexture, textures, uvs);
     p.metallic = glm::clamp(m.metallic * mr.b, 0.0f, 1.0f);
     p.roughness = glm::clamp(m.roughness * mr.g, 0.0f, 1.0f);
@@ -43,7 +45,8 @@ ShadingParams evaluateMaterial(const Material& m, std::span<const Texture> textu
 
 Color evaluateEmission(const Material& m, std::span<const Texture> textures,
                        std::span<const Vec2> uvs) {
-    if (!m.isEmissive()) return Color(0.0f);
+    if (!m.isEmissive())
+        return Color(0.0f);
     return m.emissive * Color(lookup(m.emissiveTexture, textures, uvs));
 }
 

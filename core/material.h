@@ -23,7 +23,7 @@ struct Material {
     float baseAlpha = 1.0f;
     TextureRef baseColorTexture;
     float metallic = 1.0f;
-    float roughness = 1.0f;  // perceptual roughness; GGX alpha = roughness^2
+    float roughness = 1.0f;               // perceptual roughness; GGX alpha = roughness^2
     TextureRef metallicRoughnessTexture;  // roughness in G, metallic in B
 
     TextureRef normalTexture;

@@ -27,18 +27,26 @@ inline constexpr float kInv2Pi = 1.0f / (2.0f * kPi);
 inline constexpr float kInv4Pi = 1.0f / (4.0f * kPi);
 
 // Relative luminance Y of a linear-sRGB colour (ITU-R BT.709 primaries, D65).
-inline float luminance(const Color& c) { return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b; }
+inline float luminance(const Color& c) {
+    return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b;
+}
 
-inline float maxComponent(const Color& c) { return glm::max(c.r, glm::max(c.g, c.b)); }
+inline float maxComponent(const Color& c) {
+    return glm::max(c.r, glm::max(c.g, c.b));
+}
 
 inline bool isFinite(const Color& c) {
     return std::isfinite(c.r) && std::isfinite(c.g) && std::isfinite(c.b);
 }
 
-inline float sqr(float x) { return x * x; }
+inline float sqr(float x) {
+    return x * x;
+}
 
 // sqrt that tolerates tiny negative arguments produced by rounding.
-inline float safeSqrt(float x) { return std::sqrt(glm::max(x, 0.0f)); }
+inline float safeSqrt(float x) {
+    return std::sqrt(glm::max(x, 0.0f));
+}
 
 // Orthonormal basis around a unit normal n, branchless construction of
 // Duff et al. 2017, "Building an Orthonormal Basis, Revisited", JCGT 6(1), Listing 3.
@@ -61,7 +69,8 @@ struct Frame {
     static Frame fromNormalTangent(const Vec3& n, const Vec3& tangent) {
         const Vec3 s = tangent - n * glm::dot(n, tangent);
         const float len2 = glm::dot(s, s);
-        if (!(len2 > 1e-12f) || !std::isfinite(len2)) return fromNormal(n);
+        if (!(len2 > 1e-12f) || !std::isfinite(len2))
+            return fromNormal(n);
         Frame f;
         f.n = n;
         f.s = s / std::sqrt(len2);

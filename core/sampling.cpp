@@ -7,7 +7,8 @@ namespace penumbra {
 
 Vec2 sampleConcentricDisk(Vec2 u) {
     const Vec2 offset = 2.0f * u - Vec2(1.0f);
-    if (offset.x == 0.0f && offset.y == 0.0f) return Vec2(0.0f);
+    if (offset.x == 0.0f && offset.y == 0.0f)
+        return Vec2(0.0f);
     float r, theta;
     if (std::abs(offset.x) > std::abs(offset.y)) {
         r = offset.x;
@@ -53,7 +54,8 @@ Vec3 sampleUniformTriangle(Vec2 u) {
 
 AliasTable::AliasTable(std::span<const float> weights) {
     const size_t n = weights.size();
-    if (n == 0) return;
+    if (n == 0)
+        return;
     const double total = std::accumulate(weights.begin(), weights.end(), 0.0);
     pmf_.resize(n);
     bins_.resize(n);
@@ -82,8 +84,10 @@ AliasTable::AliasTable(std::span<const float> weights) {
         }
     }
     // Leftovers are 1 up to rounding.
-    for (uint32_t i : large) bins_[i] = {1.0f, i};
-    for (uint32_t i : small) bins_[i] = {1.0f, i};
+    for (uint32_t i : large)
+        bins_[i] = {1.0f, i};
+    for (uint32_t i : small)
+        bins_[i] = {1.0f, i};
 }
 
 uint32_t AliasTable::sample(float u) const {

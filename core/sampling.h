@@ -14,7 +14,9 @@ namespace penumbra {
 // disk mapping (Shirley and Chiu 1997, "A Low Distortion Map Between Disk and Square").
 // pdf (solid angle) = cos(theta) / pi.
 Vec3 sampleCosineHemisphere(Vec2 u);
-inline float cosineHemispherePdf(float cosTheta) { return glm::max(cosTheta, 0.0f) * kInvPi; }
+inline float cosineHemispherePdf(float cosTheta) {
+    return glm::max(cosTheta, 0.0f) * kInvPi;
+}
 
 Vec2 sampleConcentricDisk(Vec2 u);
 
@@ -34,14 +36,15 @@ Vec3 sampleUniformTriangle(Vec2 u);
 inline float powerHeuristic(float pdfA, float pdfB) {
     const float a = pdfA * pdfA;
     const float b = pdfB * pdfB;
-    if (std::isinf(a)) return 1.0f;
+    if (std::isinf(a))
+        return 1.0f;
     return a + b > 0.0f ? a / (a + b) : 0.0f;
 }
 
 // Walker's alias method (Walker 1977; Vose 1991 construction) for O(1) sampling of a discrete
 // distribution proportional to non-negative weights. Zero weights are never chosen.
 class AliasTable {
-public:
+  public:
     AliasTable() = default;
     explicit AliasTable(std::span<const float> weights);
 
@@ -51,7 +54,7 @@ public:
     size_t size() const { return pmf_.size(); }
     bool empty() const { return pmf_.empty(); }
 
-private:
+  private:
     struct Bin {
         float threshold;  // probability of keeping this bin's own index
         uint32_t alias;

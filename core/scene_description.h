@@ -19,9 +19,9 @@ struct Mesh {
     std::string source;  // JSON pointer of the primitive, e.g. "/meshes/3/primitives/0"
     int material = -1;   // index into SceneDescription::materials (the default material if absent)
 
-    std::vector<Vec3> positions;  // world space, metres
-    std::vector<Vec3> normals;    // world space, unit; empty = use the geometric normal
-    std::vector<Vec4> tangents;   // world space xyz + handedness w; empty when not needed
+    std::vector<Vec3> positions;           // world space, metres
+    std::vector<Vec3> normals;             // world space, unit; empty = use the geometric normal
+    std::vector<Vec4> tangents;            // world space xyz + handedness w; empty when not needed
     std::array<std::vector<Vec2>, 2> uvs;  // TEXCOORD_0 and TEXCOORD_1 (may be empty)
     // Vertex indices, counter-clockwise = front face. Winding is already flipped for
     // negative-determinant node transforms; degenerate triangles are already dropped.
@@ -48,8 +48,8 @@ enum class ProjectionType { Perspective, Orthographic };
 struct CameraDesc {
     std::string name;
     ProjectionType projection = ProjectionType::Perspective;
-    float yfov = 0.8f;         // radians (perspective)
-    float aspectRatio = 0.0f;  // 0 = not given
+    float yfov = 0.8f;               // radians (perspective)
+    float aspectRatio = 0.0f;        // 0 = not given
     float xmag = 1.0f, ymag = 1.0f;  // half extents (orthographic)
     float znear = 0.01f;
     Mat4 cameraToWorld{1.0f};  // rigid: the camera looks down its -Z, +Y up

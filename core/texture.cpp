@@ -4,8 +4,8 @@
 
 namespace penumbra {
 
-Texture::Texture(std::string name, int width, int height, std::vector<Vec4> texels,
-                 WrapMode wrapS, WrapMode wrapT)
+Texture::Texture(std::string name, int width, int height, std::vector<Vec4> texels, WrapMode wrapS,
+                 WrapMode wrapT)
     : name_(std::move(name)),
       width_(width),
       height_(height),
@@ -14,8 +14,10 @@ Texture::Texture(std::string name, int width, int height, std::vector<Vec4> texe
       wrapT_(wrapT),
       average_(0.0f) {
     glm::dvec4 sum(0.0);
-    for (const Vec4& t : texels_) sum += glm::dvec4(t);
-    if (!texels_.empty()) average_ = Vec4(sum / static_cast<double>(texels_.size()));
+    for (const Vec4& t : texels_)
+        sum += glm::dvec4(t);
+    if (!texels_.empty())
+        average_ = Vec4(sum / static_cast<double>(texels_.size()));
 }
 
 namespace {
@@ -27,7 +29,8 @@ int wrapIndex(int i, int n, WrapMode mode) {
         case WrapMode::MirroredRepeat: {
             const int period = 2 * n;
             int m = i % period;
-            if (m < 0) m += period;
+            if (m < 0)
+                m += period;
             return m < n ? m : period - 1 - m;
         }
         case WrapMode::Repeat:
@@ -46,7 +49,8 @@ Vec4 Texture::texel(int x, int y) const {
 }
 
 Vec4 Texture::sample(Vec2 uv) const {
-    if (!std::isfinite(uv.x) || !std::isfinite(uv.y)) return texel(0, 0);
+    if (!std::isfinite(uv.x) || !std::isfinite(uv.y))
+        return texel(0, 0);
     // Texel centres sit at half-integer coordinates; keep the fractional part in double so
     // large repeat counts do not lose precision.
     const double x = static_cast<double>(uv.x) * width_ - 0.5;

@@ -14,7 +14,7 @@ enum class WrapMode { Repeat, ClampToEdge, MirroredRepeat };
 // A texture decoded once at load time to linear float RGBA. Colour textures (baseColor,
 // emissive, specularColor) are converted from sRGB when decoded; data textures stay linear.
 class Texture {
-public:
+  public:
     Texture(std::string name, int width, int height, std::vector<Vec4> texels, WrapMode wrapS,
             WrapMode wrapT);
 
@@ -27,7 +27,7 @@ public:
     int width() const { return width_; }
     int height() const { return height_; }
 
-private:
+  private:
     Vec4 texel(int x, int y) const;
 
     std::string name_;

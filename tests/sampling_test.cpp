@@ -19,7 +19,8 @@ TEST(AliasTable, FrequenciesMatchWeightsAndZeroWeightsAreNeverChosen) {
     // A stratified sweep of u reproduces the pmf up to the sweep resolution.
     constexpr int kSteps = 100000;
     std::vector<int> counts(weights.size(), 0);
-    for (int i = 0; i < kSteps; ++i) counts[table.sample((i + 0.5f) / kSteps)]++;
+    for (int i = 0; i < kSteps; ++i)
+        counts[table.sample((i + 0.5f) / kSteps)]++;
     EXPECT_EQ(counts[1], 0);
     for (size_t i = 0; i < weights.size(); ++i) {
         EXPECT_NEAR(counts[i] / double(kSteps), table.pmf(i), 1e-3) << "index " << i;

@@ -1,0 +1,71 @@
+// `penumbra info SCENE`: what a scene contains and how penumbra reads it.
+#include "cli/commands.h"
+#include "cli/scene_input.h"
+#include "core/scene.h"
+
+#include <iostream>
+#include <map>
+
+namespace penumbra::cli {
+
+namespace {
+
+void printInfo(const Scene& scene) {
+    const SceneDescription& desc = scene.description();
+    std::map<std::string, int> lightCounts;
+    for (const auto& light : scene.lights()) {
+        switch (light->kind()) {
+            case LightKind::Point:
+                ++lightCounts["point"];
+                break;
+            case LightKind::Spot:
+                ++lightCounts["spot"];
+                break;
+            case LightKind::Directional:
+                ++lightCounts["directional"];
+                break;
+            case LightKind::Area:
+                ++lightCounts["emissive triangles"];
+                break;
+        }
+    }
+    size_t emissiveMaterials = 0;
+    for (const Material& m : desc.materials)
+        emissiveMaterials += m.isEmissive() ? 1 : 0;
+
+    std::cout << "scene:      " << desc.file << "\n"
+              << "meshes:     " << desc.meshes.size() << " primitive instances\n"
+              << "triangles:  " << scene.triangleCount() << "\n"
+              << "materials:  " << desc.materials.size() << " (" << emissiveMaterials
+              << " emissive)\n"
+              << "textures:   " << desc.textures.size() << "\n"
+              << "cameras:    " << desc.cameras.size();
+    for (const CameraDesc& camera : desc.cameras)
+        std::cout << " '" << camera.name << "'";
+    std::cout << "\nlights:     " << scene.lights().size();
+    for (const auto& [kind, count] : lightCounts)
+        std::cout << ", " << count << " " << kind;
+    const Bounds3& b = scene.bounds();
+    std::cout << "\nbounds:     (" << b.lo.x << ", " << b.lo.y << ", " << b.lo.z << ") to ("
+              << b.hi.x << ", " << b.hi.y << ", " << b.hi.z << ") m\n";
+    std::cout << "extensions: ";
+    for (const std::string& e : desc.report.extensionsUsed)
+        std::cout << e << " ";
+    std::cout << "\nignored:    ";
+    for (const std::string& e : desc.report.extensionsIgnored)
+        std::cout << e << " ";
+    std::cout << "\ndegenerate triangles dropped: " << desc.report.degenerateTriangles << "\n";
+}
+
+}  // namespace
+
+Command addInfoCommand(CLI::App& app) {
+    auto* command = app.add_subcommand("info",
+                                       "Print what a scene contains: meshes, triangles, "
+                                       "materials, lights by type, bounds, extensions");
+    auto options = std::make_shared<SceneInput>();
+    addSceneInputOptions(*command, *options);
+    return [options] { printInfo(*loadScene(*options)); };
+}
+
+}  // namespace penumbra::cli

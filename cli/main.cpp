@@ -1,0 +1,42 @@
+// penumbra: command-line entry point. Exit status 0 on success, 2 on bad input or usage,
+// 1 on an internal failure (DEVELOPERS.md).
+#include "cli/commands.h"
+#include "core/errors.h"
+#include "core/version.h"
+
+#include <CLI/CLI.hpp>
+
+#include <exception>
+#include <iostream>
+
+int main(int argc, char** argv) {
+    CLI::App app{
+        "penumbra: a hybrid multipass global illumination renderer for glTF 2.0 scenes, "
+        "in photometric units"};
+    app.set_version_flag("--version", std::string("penumbra ") + penumbra::kVersion);
+    app.require_subcommand(1);
+
+    penumbra::cli::Command render = penumbra::cli::addRenderCommand(app);
+    penumbra::cli::Command info = penumbra::cli::addInfoCommand(app);
+
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        // Help and version requests are "errors" with status 0 in CLI11.
+        return app.exit(e) == 0 ? 0 : 2;
+    }
+
+    try {
+        if (app.got_subcommand("render"))
+            render();
+        if (app.got_subcommand("info"))
+            info();
+    } catch (const penumbra::InputError& e) {
+        std::cerr << "penumbra: error: " << e.what() << "\n";
+        return 2;
+    } catch (const std::exception& e) {
+        std::cerr << "penumbra: internal error: " << e.what() << "\n";
+        return 1;
+    }
+    return 0;
+}

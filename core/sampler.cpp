@@ -1,0 +1,123 @@
+#include "core/sampler.h"
+
+#include <array>
+
+namespace penumbra {
+namespace {
+
+uint32_t reverseBits(uint32_t v) {
+    v = ((v & 0x55555555u) << 1) | ((v >> 1) & 0x55555555u);
+    v = ((v & 0x33333333u) << 2) | ((v >> 2) & 0x33333333u);
+    v = ((v & 0x0f0f0f0fu) << 4) | ((v >> 4) & 0x0f0f0f0fu);
+    v = ((v & 0x00ff00ffu) << 8) | ((v >> 8) & 0x00ff00ffu);
+    return (v << 16) | (v >> 16);
+}
+
+// MurmurHash3's 64-bit finalizer fmix64 (Appleby 2011, MurmurHash3.cpp): a bijection with full
+// avalanche, used to turn (seed, pixel, dimension) into independent-looking scrambling seeds.
+uint64_t mixBits(uint64_t k) {
+    k ^= k >> 33;
+    k *= 0xff51afd7ed558ccdull;
+    k ^= k >> 33;
+    k *= 0xc4ceb9fe1a85ec53ull;
+    k ^= k >> 33;
+    return k;
+}
+
+// Owen scrambling in base 2 of a bit-reversed value: bit i of the result is bit i of the input
+// flipped by a hash of the bits below it (each step only carries information upwards, and each
+// is a bijection). This is the Laine-Karras construction (Laine and Karras 2011, "Stratified
+// Sampling for Stochastic Transparency") that Burley 2020 uses for Owen scrambling. Burley's paper
+// keeps Laine and Karras' multipliers; these improved ones, with the seed also used as a
+// multiplier, are Vegdahl's ("Building a Better LK Hash", psychopath.io, 2021, final version of
+// 2021-05-08), which avalanche much better (pbrt-v4's FastOwenScrambler uses the same).
+uint32_t laineKarrasPermutation(uint32_t x, uint32_t seed) {
+    x ^= x * 0x3d20adeau;
+    x += seed;
+    x *= (seed >> 16) | 1u;
+    x ^= x * 0x05526c56u;
+    x ^= x * 0x53a22864u;
+    return x;
+}
+
+// Owen's nested uniform scramble of a 32-bit fraction (most significant bit first): each digit is
+// flipped by a random function of the digits above it (Burley 2020, "nested_uniform_scramble").
+uint32_t nestedUniformScramble(uint32_t x, uint32_t seed) {
+    return reverseBits(laineKarrasPermutation(reverseBits(x), seed));
+}
+
+// Generator matrix of Sobol's second dimension as 32 columns: column i is the direction number v_i,
+// the image of index bit i. Its primitive polynomial is x + 1 (degree 1, no inner coefficients,
+// m_1 = 1), so Sobol's recurrence v_i = v_{i-1} XOR (v_{i-1} >> s) with s = 1 holds from
+// v_0 = 1/2 (Bratley and Fox 1988, "Algorithm 659: Implementing Sobol's Quasirandom Sequence
+// Generator", ACM TOMS 14(1); Joe and Kuo 2008, "Constructing Sobol Sequences with Better
+// Two-Dimensional Projections", list this as their dimension 2: s = 1, a = 0, m_1 = 1).
+constexpr std::array<uint32_t, 32> kSobolDimension1 = [] {
+    std::array<uint32_t, 32> v{};
+    v[0] = 1u << 31;
+    for (size_t i = 1; i < v.size(); ++i) {
+        v[i] = v[i - 1] ^ (v[i - 1] >> 1);
+    }
+    return v;
+}();
+
+uint32_t sobolDimension1(uint32_t index) {
+    uint32_t x = 0;
+    for (size_t i = 0; index != 0; index >>= 1, ++i) {
+        if (index & 1u) {
+            x ^= kSobolDimension1[i];
+        }
+    }
+    return x;
+}
+
+// The 24 most significant bits as a float: exact, so scrambled strata are never merged by
+// rounding, and at most 1 - 2^-24 = 0x1.fffffep-1 < 1.
+float toUnitFloat(uint32_t bits) {
+    return static_cast<float>(bits >> 8) * 0x1p-24f;
+}
+
+}  // namespace
+
+void Sampler::startPixelSample(IVec2 pixel, uint32_t sampleIndex) {
+    pixel_ = pixel;
+    sampleIndex_ = sampleIndex;
+    dimension_ = 1;
+}
+
+Sampler::DimensionSeeds Sampler::seedsFor(uint32_t dimension) const {
+    // Hash (pixel) and (seed, dimension) as two 64-bit words; mixBits is a bijection, so two
+    // pixels (or two dimensions) of one render never share a hash.
+    const uint64_t pixelWord = (uint64_t(uint32_t(pixel_.x)) << 32) | uint64_t(uint32_t(pixel_.y));
+    const uint64_t streamWord = (uint64_t(seed_) << 32) | dimension;
+    const uint64_t h = mixBits(pixelWord ^ mixBits(streamWord));
+    return {uint32_t(h), uint32_t(h >> 32), uint32_t(mixBits(h))};
+}
+
+Vec2 Sampler::sample2D(uint32_t dimension) const {
+    const DimensionSeeds seeds = seedsFor(dimension);
+    // Shuffle the sample order by Owen-scrambling the index (Burley 2020, "shuffling"). The
+    // scramble maps each aligned block of 2^k indices onto another aligned block, so the first 2^k
+    // samples stay a (0,k,2)-net.
+    const uint32_t index = nestedUniformScramble(sampleIndex_, seeds.index);
+    // Sobol dimension 0 is the van der Corput sequence: the bit-reversed index.
+    const uint32_t x = nestedUniformScramble(reverseBits(index), seeds.x);
+    const uint32_t y = nestedUniformScramble(sobolDimension1(index), seeds.y);
+    return {toUnitFloat(x), toUnitFloat(y)};
+}
+
+float Sampler::get1D() {
+    const DimensionSeeds seeds = seedsFor(dimension_++);
+    const uint32_t index = nestedUniformScramble(sampleIndex_, seeds.index);
+    return toUnitFloat(nestedUniformScramble(reverseBits(index), seeds.x));
+}
+
+Vec2 Sampler::get2D() {
+    return sample2D(dimension_++);
+}
+
+Vec2 Sampler::getPixel2D() {
+    return sample2D(0);
+}
+
+}  // namespace penumbra

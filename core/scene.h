@@ -1,0 +1,74 @@
+// The immutable scene a render works on: geometry with its acceleration structure, materials,
+// textures, lights and the light-selection distribution. Built once from a SceneDescription
+// (the second stage of loading) and passed around as `const Scene&`.
+#pragma once
+
+#include "core/accel.h"
+#include "core/bsdf.h"
+#include "core/interaction.h"
+#include "core/light.h"
+#include "core/light_sampler.h"
+#include "core/scene_description.h"
+
+#include <memory>
+#include <optional>
+#include <span>
+#include <vector>
+
+namespace penumbra {
+
+class Scene {
+  public:
+    explicit Scene(SceneDescription description);
+    // Lights and the acceleration structure point into the description's arrays.
+    Scene(const Scene&) = delete;
+    Scene& operator=(const Scene&) = delete;
+
+    const SceneDescription& description() const { return desc_; }
+    std::span<const Mesh> meshes() const { return desc_.meshes; }
+    std::span<const Material> materials() const { return desc_.materials; }
+    std::span<const Texture> textures() const { return desc_.textures; }
+    std::span<const std::unique_ptr<Light>> lights() const { return lights_; }
+    const PowerLightSampler& lightSampler() const { return *lightSampler_; }
+    const Bounds3& bounds() const { return bounds_; }
+    size_t triangleCount() const { return triangleCount_; }
+
+    // Closest surface along the ray.
+    std::optional<SurfaceHit> intersect(const Ray& ray) const;
+
+    const Material& material(const SurfaceHit& hit) const { return desc_.materials[hit.material]; }
+    // The BSDF at a hit, with the material's textures and normal map applied.
+    Bsdf bsdf(const SurfaceHit& hit) const;
+    // Radiance (cd/m²) the surface emits towards wo: front face only unless doubleSided.
+    Color emitted(const SurfaceHit& hit, const Vec3& wo) const;
+    // The area light of an emissive triangle, or -1.
+    int lightIndex(const SurfaceHit& hit) const;
+
+    // Light passing straight through the surface towards -wo without changing direction:
+    // alpha cut-outs (alphaMode MASK below the cutoff, BLEND by 1 - alpha) and thin-walled
+    // transmission. Tracers treat it as transparency, not as a scattering vertex, in primary
+    // rays, path continuation and shadow rays alike (so the two agree under MIS).
+    Color straightTransmittance(const SurfaceHit& hit, const Bsdf& bsdf, const Vec3& wo) const;
+
+    // Fraction of light carried unoccluded from point `to` to point `from` (both on surfaces,
+    // with error bounds and normals for robust offsets; a zero normal means a point off any
+    // surface). 0 when blocked, 1 when free, in between through transparent surfaces.
+    Color transmittance(const Vec3& from, const Vec3& fromError, const Vec3& fromNormal,
+                        const Vec3& to, const Vec3& toError, const Vec3& toNormal) const;
+
+    // Ray leaving a surface hit in direction w, offset robustly off the surface.
+    static Ray spawnRay(const SurfaceHit& hit, const Vec3& w);
+
+  private:
+    SceneDescription desc_;
+    std::unique_ptr<Accel> accel_;
+    std::vector<std::unique_ptr<Light>> lights_;
+    std::unique_ptr<PowerLightSampler> lightSampler_;
+    // For each mesh, the light index of each triangle (empty for non-emissive meshes).
+    std::vector<std::vector<int>> triangleLights_;
+    Bounds3 bounds_;
+    size_t triangleCount_ = 0;
+    bool hasTransparentSurfaces_ = false;  // if not, shadow rays need only an occlusion test
+};
+
+}  // namespace penumbra

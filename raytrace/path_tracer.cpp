@@ -1,0 +1,153 @@
+#include "raytrace/path_tracer.h"
+
+#include "core/sampler.h"
+#include "core/sampling.h"
+
+namespace penumbra {
+
+namespace {
+
+// Paths always have at least this probability of ending at each roulette test, so that a
+// path cannot run forever even in a closed box of perfect mirrors; the survivors are
+// reweighted by 1 / (1 - q), which keeps the estimator unbiased.
+constexpr float kMinTerminationProbability = 0.05f;
+// Roulette starts after this many scattering events (the first bounces carry most variance).
+constexpr int kRouletteStartDepth = 3;
+
+// Beer-Lambert attenuation exp(-sigma t) of a segment inside a volume material, known when the
+// segment ends on the material's back face (a closed solid leaves through its back faces).
+Color volumeAttenuation(const Scene& scene, const SurfaceHit& hit, const Vec3& direction) {
+    const Material& m = scene.material(hit);
+    if (m.thinWalled() || hit.frontFace(direction))
+        return Color(1.0f);
+    return glm::exp(-m.absorption() * hit.t);
+}
+
+}  // namespace
+
+PathTracer::PathTracer(const Scene& scene, const PathTracerSettings& settings)
+    : scene_(scene), settings_(settings) {}
+
+Color PathTracer::sampleDirectLight(const SurfaceHit& hit, const Bsdf& bsdf, const Vec3& wo,
+                                    Sampler& sampler, PathCounters& counters) const {
+    const float uLight = sampler.get1D();
+    const Vec2 uPoint = sampler.get2D();
+    const auto choice = scene_.lightSampler().sample(uLight);
+    if (!choice)
+        return Color(0.0f);
+    const Light& light = *scene_.lights()[choice->light];
+    const LightSampleContext ctx{hit.p, hit.pError, hit.ng};
+    const std::optional<LightLiSample> ls = light.sampleLi(ctx, uPoint);
+    if (!ls || !(ls->pdf > 0.0f))
+        return Color(0.0f);
+
+    const Color f = bsdf.f(wo, ls->wi) * std::abs(glm::dot(ls->wi, bsdf.shadingNormal()));
+    if (maxComponent(f) <= 0.0f)
+        return Color(0.0f);
+    ++counters.rays;
+    const Color Tr =
+        scene_.transmittance(hit.p, hit.pError, hit.ng, ls->pLight, ls->pLightError, ls->nLight);
+    if (maxComponent(Tr) <= 0.0f)
+        return Color(0.0f);
+
+    const float lightPdf = choice->pmf * ls->pdf;
+    // Power heuristic between light sampling and BSDF sampling (Veach 1997, Eq. 9.13); a delta
+    // light can only be reached by light sampling, so its weight is 1.
+    const float weight = light.isDelta() ? 1.0f : powerHeuristic(lightPdf, bsdf.pdf(wo, ls->wi));
+    return f * ls->L * Tr * (weight / lightPdf);
+}
+
+Color PathTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHit, PathCounters& counters) const {
+    Color L(0.0f);
+    Color beta(1.0f);
+    // Product of eta^2 over refractions: beta carries the 1/eta^2 radiance scaling of each
+    // refraction, which this factor undoes for the roulette decision only (pbrt-v4, 14.1.3).
+    float etaScale = 1.0f;
+    int depth = 0;
+    const Vec3 cameraOrigin = ray.o;
+    bool lastDelta = true;  // the camera counts as a delta vertex for emission
+    float lastBsdfPdf = 0.0f;
+    LightSampleContext lastCtx;
+
+    while (true) {
+        ++counters.rays;
+        const std::optional<SurfaceHit> hit = scene_.intersect(ray);
+        if (!hit)
+            break;  // no infinite lights yet: the world is black
+        beta *= volumeAttenuation(scene_, *hit, ray.d);
+        const Vec3 wo = -ray.d;
+
+        // Emission reached by the previous BSDF sample, MIS-weighted against next-event
+        // estimation at the previous vertex (Veach 1997, Eq. 9.13).
+        const Color Le = scene_.emitted(*hit, wo);
+        if (maxComponent(Le) > 0.0f) {
+            float weight = 1.0f;
+            const int lightIndex = scene_.lightIndex(*hit);
+            if (!lastDelta && lightIndex >= 0) {
+                const Light& light = *scene_.lights()[lightIndex];
+                const float lightPdf =
+                    scene_.lightSampler().pmf(lightIndex) * light.pdfLi(lastCtx, ray.d, *hit);
+                weight = powerHeuristic(lastBsdfPdf, lightPdf);
+            }
+            L += beta * Le * weight;
+        }
+
+        const Bsdf bsdf = scene_.bsdf(*hit);
+
+        // Straight-through transparency (thin glass, alpha): continue the same ray with
+        // probability q, else scatter; both branches reweighted, so the choice is unbiased.
+        // The vertex is not a scattering event: depth and the MIS state stay as they were.
+        const Color through = scene_.straightTransmittance(*hit, bsdf, wo);
+        if (maxComponent(through) > 0.0f) {
+            const float q = glm::min(maxComponent(through), 1.0f);
+            if (sampler.get1D() < q) {
+                beta *= through / q;
+                ray = Scene::spawnRay(*hit, ray.d);
+                continue;
+            }
+            beta /= 1.0f - q;
+        }
+
+        if (firstHit && !firstHit->valid) {
+            firstHit->valid = true;
+            firstHit->albedo =
+                evaluateMaterial(scene_.material(*hit), scene_.textures(), hit->uv).baseColor;
+            firstHit->normal = bsdf.shadingNormal();
+            firstHit->depth = glm::distance(hit->p, cameraOrigin);
+        }
+
+        if (settings_.maxDepth >= 0 && depth >= settings_.maxDepth)
+            break;
+
+        if (bsdf.hasNonDeltaLobe())
+            L += beta * sampleDirectLight(*hit, bsdf, wo, sampler, counters);
+
+        const float uLobe = sampler.get1D();
+        const Vec2 uDirection = sampler.get2D();
+        const std::optional<BsdfSample> bs = bsdf.sample(wo, uLobe, uDirection);
+        if (!bs || !(bs->pdf > 0.0f))
+            break;
+        beta *= bs->f * (std::abs(glm::dot(bs->wi, bsdf.shadingNormal())) / bs->pdf);
+        if (maxComponent(beta) <= 0.0f)
+            break;
+        if (bs->lobe & kLobeTransmission)
+            etaScale *= sqr(bs->eta);
+        lastDelta = bs->isDelta();
+        lastBsdfPdf = bs->pdf;
+        lastCtx = LightSampleContext{hit->p, hit->pError, hit->ng};
+        ray = Scene::spawnRay(*hit, bs->wi);
+        ++depth;
+
+        // Russian roulette (Arvo and Kirk 1990), on the throughput without eta scaling.
+        if (depth >= kRouletteStartDepth) {
+            const float q =
+                glm::max(kMinTerminationProbability, 1.0f - maxComponent(beta * etaScale));
+            if (sampler.get1D() < q)
+                break;
+            beta /= 1.0f - q;
+        }
+    }
+    return L;
+}
+
+}  // namespace penumbra

@@ -1,0 +1,36 @@
+// Runs the penumbra command-line program from tests, as a user would.
+#pragma once
+
+#include "core/image.h"
+
+#include <filesystem>
+#include <string>
+
+namespace penumbra::test {
+
+struct CliResult {
+    int status = -1;     // exit status
+    std::string output;  // stdout and stderr together
+};
+
+// Runs build/bin/penumbra with the given arguments (a shell-quoted string).
+CliResult runPenumbra(const std::string& arguments);
+
+// A fresh, empty directory for one test's files, removed when the object goes away.
+class TempDir {
+  public:
+    explicit TempDir(const std::string& name);
+    ~TempDir();
+    TempDir(const TempDir&) = delete;
+    TempDir& operator=(const TempDir&) = delete;
+
+    std::string file(const std::string& name) const { return (path_ / name).string(); }
+
+  private:
+    std::filesystem::path path_;
+};
+
+// Mean of one channel over a rectangle of pixels [x0, x1) x [y0, y1).
+double regionMean(const Image& image, int channel, int x0, int y0, int x1, int y1);
+
+}  // namespace penumbra::test
