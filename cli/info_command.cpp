@@ -47,7 +47,8 @@ void printInfo(const Scene& scene) {
         std::cout << ", " << count << " " << kind;
     const Bounds3& b = scene.bounds();
     std::cout << "\nbounds:     (" << b.lo.x << ", " << b.lo.y << ", " << b.lo.z << ") to ("
-              << b.hi.x << ", " << b.hi.y << ", " << b.hi.z << ") m\n";
+              << b.hi.x << ", " << b.hi.y << ", " << b.hi.z << ") m, relative to (" << desc.origin.x
+              << ", " << desc.origin.y << ", " << desc.origin.z << ") in the file\n";
     std::cout << "extensions: ";
     for (const std::string& e : desc.report.extensionsUsed)
         std::cout << e << " ";

@@ -15,6 +15,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 namespace penumbra {
@@ -156,6 +157,7 @@ class SceneFlattener {
     void flatten(int scene);
 
   private:
+    glm::dvec3 boundsCenter(const std::vector<std::pair<int, glm::dmat4>>& placed);
     void visit(int node, const glm::dmat4& world);
     void addMesh(int mesh, const glm::dmat4& world);
     const std::vector<std::optional<Mesh>>& primitives(int mesh);
@@ -173,6 +175,7 @@ void SceneFlattener::flatten(int scene) {
     // Depth-first with an explicit stack (deep hierarchies must not overflow the call stack);
     // children are pushed in reverse so that they come out in file order.
     std::vector<std::pair<int, glm::dmat4>> stack;
+    std::vector<std::pair<int, glm::dmat4>> placed;  // visited nodes with their world matrices
     const std::vector<int>& roots = ctx_.model.scenes[scene].nodes;
     for (auto it = roots.rbegin(); it != roots.rend(); ++it)
         stack.emplace_back(*it, glm::dmat4(1.0));
@@ -187,11 +190,47 @@ void SceneFlattener::flatten(int scene) {
                       "singular transform (zero scale); node and descendants skipped");
             continue;
         }
-        visit(node, world);
+        placed.emplace_back(node, world);
         const std::vector<int>& children = ctx_.model.nodes[node].children;
         for (auto it = children.rbegin(); it != children.rend(); ++it)
             stack.emplace_back(*it, world);
     }
+    // Rebase the world on the centre of the geometry, computed in double precision, before
+    // anything is rounded to float: a model placed at 1e5 m (site coordinates) then keeps the
+    // sub-millimetre precision it has near the origin, instead of float's 8 mm steps there.
+    desc_.origin = boundsCenter(placed);
+    const glm::dmat4 rebase = glm::translate(glm::dmat4(1.0), -desc_.origin);
+    for (const auto& [node, world] : placed)
+        visit(node, rebase * world);
+}
+
+// Centre of the world-space bounding box of all placed meshes (the transformed corners of each
+// primitive's local box), or the origin when nothing is placed.
+glm::dvec3 SceneFlattener::boundsCenter(const std::vector<std::pair<int, glm::dmat4>>& placed) {
+    glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-lo);
+    for (const auto& [node, world] : placed) {
+        const int mesh = ctx_.model.nodes[node].mesh;
+        if (mesh < 0)
+            continue;
+        for (const std::optional<Mesh>& local : primitives(mesh)) {
+            if (!local || local->positions.empty())
+                continue;
+            glm::dvec3 localLo(local->positions.front()), localHi(localLo);
+            for (const Vec3& p : local->positions) {
+                localLo = glm::min(localLo, glm::dvec3(p));
+                localHi = glm::max(localHi, glm::dvec3(p));
+            }
+            for (int corner = 0; corner < 8; ++corner) {
+                const glm::dvec3 c((corner & 1) ? localHi.x : localLo.x,
+                                   (corner & 2) ? localHi.y : localLo.y,
+                                   (corner & 4) ? localHi.z : localLo.z);
+                const glm::dvec3 w(world * glm::dvec4(c, 1.0));
+                lo = glm::min(lo, w);
+                hi = glm::max(hi, w);
+            }
+        }
+    }
+    return lo.x <= hi.x ? 0.5 * (lo + hi) : glm::dvec3(0.0);
 }
 
 void SceneFlattener::visit(int node, const glm::dmat4& world) {

@@ -210,13 +210,14 @@ std::optional<Mesh> readPrimitive(const Context& ctx, int meshIndex, int primInd
 
 Mesh instantiate(const Mesh& local, const glm::dmat4& world) {
     Mesh mesh = local;
-    const Mat4 m(world);
     const glm::dmat3 linear(world);
     const Mat3 normalMatrix(glm::transpose(glm::inverse(linear)));
     const Mat3 tangentMatrix(linear);
     const float handedness = glm::determinant(linear) < 0.0 ? -1.0f : 1.0f;
+    // In double, so that a far-away node translation and the rebasing that undoes it
+    // (SceneFlattener::flatten) cancel before the result is rounded to float.
     for (Vec3& p : mesh.positions)
-        p = Vec3(m * Vec4(p, 1.0f));
+        p = Vec3(world * glm::dvec4(glm::dvec3(p), 1.0));
     for (Vec3& n : mesh.normals)
         n = glm::normalize(normalMatrix * n);
     for (Vec4& t : mesh.tangents)

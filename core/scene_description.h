@@ -65,6 +65,10 @@ struct LoadReport {
 
 struct SceneDescription {
     std::string file;  // path as given
+    // Where penumbra's world origin lies in the file's coordinates (metres). Everything is
+    // stored relative to it (rebased on the centre of the geometry, so that a model placed far
+    // from the file's origin keeps its precision in float).
+    glm::dvec3 origin{0.0};
     std::vector<Mesh> meshes;
     std::vector<Material> materials;  // last entry is the glTF default material when used
     std::vector<Texture> textures;

@@ -1,5 +1,6 @@
 #include "core/texture.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace penumbra {
@@ -41,6 +42,15 @@ int wrapIndex(int i, int n, WrapMode mode) {
     }
 }
 
+// Brings a texel index into int range without changing what it addresses: modulo twice the
+// size (a period of both repeat modes), or clamped just outside the edges.
+int reduceIndex(double index, int n, WrapMode mode) {
+    if (mode == WrapMode::ClampToEdge)
+        return static_cast<int>(std::clamp(index, -1.0, double(n)));
+    const double period = 2.0 * n;
+    return static_cast<int>(index - period * std::floor(index / period));
+}
+
 }  // namespace
 
 Vec4 Texture::texel(int x, int y) const {
@@ -57,10 +67,7 @@ Vec4 Texture::sample(Vec2 uv) const {
     const double y = static_cast<double>(uv.y) * height_ - 0.5;
     const double fx = std::floor(x), fy = std::floor(y);
     const float tx = static_cast<float>(x - fx), ty = static_cast<float>(y - fy);
-    // Reduce modulo twice the size, a period of every wrap mode, before converting to int.
-    const double px = 2.0 * width_, py = 2.0 * height_;
-    const int x0 = static_cast<int>(fx - px * std::floor(fx / px));
-    const int y0 = static_cast<int>(fy - py * std::floor(fy / py));
+    const int x0 = reduceIndex(fx, width_, wrapS_), y0 = reduceIndex(fy, height_, wrapT_);
     return (1 - tx) * (1 - ty) * texel(x0, y0) + tx * (1 - ty) * texel(x0 + 1, y0) +
            (1 - tx) * ty * texel(x0, y0 + 1) + tx * ty * texel(x0 + 1, y0 + 1);
 }

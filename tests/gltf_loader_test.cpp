@@ -138,6 +138,12 @@ Vec3 faceNormal(const Mesh& m, size_t t) {
                       m.positions[tri.z] - m.positions[tri.x]);
 }
 
+// A loaded position in the file's coordinates: the loader rebases the world on the centre of
+// the geometry (SceneDescription::origin).
+Vec3 inFile(const SceneDescription& d, const Vec3& p) {
+    return Vec3(glm::dvec3(p) + d.origin);
+}
+
 void expectNear(const Vec3& a, const Vec3& b, float eps = 1e-5f) {
     EXPECT_NEAR(a.x, b.x, eps);
     EXPECT_NEAR(a.y, b.y, eps);
@@ -198,7 +204,7 @@ TEST_F(GltfLoaderTest, ValidTriangleKeepsPositionsWindingAndNormals) {
     EXPECT_EQ(m.name, "0/0");
     EXPECT_EQ(m.source, "/meshes/0/primitives/0");
     ASSERT_EQ(m.positions.size(), 3u);
-    expectNear(m.positions[1], Vec3(1, 0, 0));
+    expectNear(inFile(d, m.positions[1]), Vec3(1, 0, 0));
     ASSERT_EQ(m.triangles.size(), 1u);
     EXPECT_EQ(m.triangles[0], glm::uvec3(0, 1, 2));
     EXPECT_GT(faceNormal(m, 0).z, 0.0f);  // counter-clockwise seen from +Z
@@ -217,7 +223,7 @@ TEST_F(GltfLoaderTest, GlbLoadsLikeGltf) {
     const std::string path = write("triangle.glb", std::string(glb.begin(), glb.end()));
     const SceneDescription d = loadGltf(path);
     ASSERT_EQ(d.meshes.size(), 1u);
-    expectNear(d.meshes[0].positions[2], Vec3(0, 1, 0));
+    expectNear(inFile(d, d.meshes[0].positions[2]), Vec3(0, 1, 0));
     EXPECT_TRUE(d.meshes[0].normals.empty());  // no NORMAL: flat shading
 }
 
@@ -240,12 +246,12 @@ TEST_F(GltfLoaderTest, NodeHierarchyComposesParentTimesChild) {
     ASSERT_EQ(d.meshes.size(), 2u);  // one mesh, instanced by two nodes
     const Mesh& m = d.meshes[0];
     EXPECT_EQ(m.name, "tri/0");
-    expectNear(m.positions[0], Vec3(1, 4, 3));
-    expectNear(m.positions[1], Vec3(1, 6, 3));
-    expectNear(m.positions[2], Vec3(-2, 4, 3));
+    expectNear(inFile(d, m.positions[0]), Vec3(1, 4, 3));
+    expectNear(inFile(d, m.positions[1]), Vec3(1, 6, 3));
+    expectNear(inFile(d, m.positions[2]), Vec3(-2, 4, 3));
     expectNear(m.normals[0], Vec3(0, 0, 1));
     EXPECT_GT(faceNormal(m, 0).z, 0.0f);
-    expectNear(d.meshes[1].positions[1], Vec3(1, 0, -1));
+    expectNear(inFile(d, d.meshes[1].positions[1]), Vec3(1, 0, -1));
 }
 
 // A mirror in z maps the front side +Z to -Z: after the winding flip the geometric normal must
@@ -327,8 +333,8 @@ TEST_F(GltfLoaderTest, SparseAccessorsAndNormalizedTexcoordsAreDecoded) {
     const SceneDescription d = loadGltf(
         write("sparse.gltf", b.json(oneMesh(R"({"attributes":{"POSITION":1,"TEXCOORD_0":2}})"))));
     ASSERT_EQ(d.meshes.size(), 1u);
-    expectNear(d.meshes[0].positions[2], Vec3(0, 2, 0));
-    expectNear(d.meshes[0].positions[1], Vec3(1, 0, 0));
+    expectNear(inFile(d, d.meshes[0].positions[2]), Vec3(0, 2, 0));
+    expectNear(inFile(d, d.meshes[0].positions[1]), Vec3(1, 0, 0));
     ASSERT_EQ(d.meshes[0].uvs[0].size(), 3u);
     EXPECT_FLOAT_EQ(d.meshes[0].uvs[0][0].x, 1.0f);
     EXPECT_FLOAT_EQ(d.meshes[0].uvs[0][1].y, 128.0f / 255.0f);
@@ -484,7 +490,7 @@ TEST_F(GltfLoaderTest, LightsAndCamerasArePlacedInWorldSpace) {
     const PunctualLightDesc& l = d.lights[0];
     EXPECT_EQ(l.name, "lamp");
     EXPECT_EQ(l.type, PunctualType::Spot);
-    expectNear(l.position, Vec3(1, 2, 3));
+    expectNear(inFile(d, l.position), Vec3(1, 2, 3));
     expectNear(l.direction, Vec3(0, 1, 0));  // -Z turned 90 degrees about +X
     expectNear(l.color, Vec3(1, 0.5f, 0.25f));
     EXPECT_FLOAT_EQ(l.intensity, 5.0f);
@@ -500,7 +506,7 @@ TEST_F(GltfLoaderTest, LightsAndCamerasArePlacedInWorldSpace) {
     // The scale is removed: a rigid frame at the node's origin.
     expectNear(Vec3(c.cameraToWorld[0]), Vec3(1, 0, 0));
     expectNear(Vec3(c.cameraToWorld[2]), Vec3(0, 0, 1));
-    expectNear(Vec3(c.cameraToWorld[3]), Vec3(0, 1, 5));
+    expectNear(inFile(d, Vec3(c.cameraToWorld[3])), Vec3(0, 1, 5));
     EXPECT_NE(d.sceneExtrasJson.find("\"sky\""), std::string::npos) << d.sceneExtrasJson;
     EXPECT_NE(d.sceneExtrasJson.find("uniform"), std::string::npos) << d.sceneExtrasJson;
 }
