@@ -32,17 +32,17 @@ enum BsdfLobe : uint32_t {
 enum class TransportMode { Radiance, Importance };
 
 struct BsdfSample {
-    Color f{0.0f};       // BSDF value (for a delta lobe: its weight divided by |cos theta_i|)
+    Color f{0.0f};  // BSDF value (for a delta lobe: its weight divided by |cos theta_i|)
     Vec3 wi{0.0f};
-    float pdf = 0.0f;    // solid angle; for a delta lobe the discrete probability of the lobe
+    float pdf = 0.0f;  // solid angle; for a delta lobe the discrete probability of the lobe
     uint32_t lobe = kLobeNone;
-    float eta = 1.0f;    // relative IOR crossed by a transmission sample (1 otherwise)
+    float eta = 1.0f;  // relative IOR crossed by a transmission sample (1 otherwise)
 
     bool isDelta() const { return (lobe & kLobeSpecular) != 0; }
 };
 
 class Bsdf {
-public:
+  public:
     // shading: frame of the shading normal (after normal mapping); ng: unit geometric normal on
     // the front side of the surface (counter-clockwise winding).
     Bsdf(const ShadingParams& params, const Frame& shading, const Vec3& ng);
@@ -74,7 +74,7 @@ public:
     // (1 - E_avg), E_avg being the average albedo of the specular layer above it.
     Color diffuseReflectance() const;
 
-private:
+  private:
     // One wo in the local frame, with the quantities every query about it needs.
     struct Query;
 
@@ -83,6 +83,7 @@ private:
     Vec3 toWorld(const Vec3& w, bool front) const;
     Color specularAlbedo(float cosTheta) const;
     Color mirrorFresnel(const Query& q, float cosTheta) const;
+    float glassReflectionChoice(const Query& q, float cosTheta) const;
     Color evalF(const Query& q, const Vec3& wi, TransportMode mode) const;
     float evalPdf(const Query& q, const Vec3& wi) const;
 
@@ -90,11 +91,13 @@ private:
     Frame shading_;         // normal turned to the side of ng_
     Vec3 ng_;
     uint32_t lobes_ = kLobeNone;
-    float alpha_ = 0.0f;    // GGX alpha = roughness^2
-    bool smooth_ = false;   // alpha below GgxDistribution::kSmoothAlpha: delta lobes
-    Color f0_{0.0f};        // dielectric normal-incidence reflectance
-    Color albedoAvg_{0.0f};  // E_avg of the dielectric specular layer (Kelemen coupling)
-    bool hasDiffuse_ = false, hasReflection_ = false, hasRefraction_ = false;
+    float alpha_ = 0.0f;            // GGX alpha = roughness^2
+    bool smooth_ = false;           // alpha below GgxDistribution::kSmoothAlpha: delta lobes
+    bool deltaRefraction_ = false;  // smooth, or index-matched (ior 1): refraction is a delta
+    Color f0_{0.0f};                // dielectric normal-incidence reflectance
+    Color albedoAvg_{0.0f};         // E_avg of the dielectric specular layer (Kelemen coupling)
+    // Sampling strategies: Lambertian, GGX reflection, and the glass term of a solid.
+    bool hasDiffuse_ = false, hasReflection_ = false, hasGlass_ = false;
 };
 
 }  // namespace penumbra

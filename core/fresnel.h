@@ -36,14 +36,18 @@ inline Color dielectricF0(float ior, const Color& specularColor) {
 // from both sides (so refraction stays reciprocal), and beyond the critical angle F = 1 (total
 // internal reflection).
 inline Color fresnelDielectric(const Color& f0, float cosI, float eta) {
-    if (eta >= 1.0f) return fresnelSchlick(f0, cosI);
+    if (eta >= 1.0f)
+        return fresnelSchlick(f0, cosI);
     const float sin2T = (1.0f - cosI * cosI) / (eta * eta);
-    if (sin2T >= 1.0f) return Color(1.0f);
+    if (sin2T >= 1.0f)
+        return Color(1.0f);
     return fresnelSchlick(f0, std::sqrt(1.0f - sin2T));
 }
 
 // Mirror direction of w about the unit normal n.
-inline Vec3 reflect(const Vec3& w, const Vec3& n) { return 2.0f * glm::dot(w, n) * n - w; }
+inline Vec3 reflect(const Vec3& w, const Vec3& n) {
+    return 2.0f * glm::dot(w, n) * n - w;
+}
 
 // Refraction of w (pointing away from the surface, dot(w, n) > 0) through an interface with unit
 // normal n and relative IOR eta = n_t / n_i, by Snell's law (pbrt-v4 section 9.3.2). Returns
@@ -51,7 +55,8 @@ inline Vec3 reflect(const Vec3& w, const Vec3& n) { return 2.0f * glm::dot(w, n)
 inline std::optional<Vec3> refract(const Vec3& w, const Vec3& n, float eta) {
     const float cosI = glm::dot(w, n);
     const float sin2T = (1.0f - cosI * cosI) / (eta * eta);
-    if (sin2T >= 1.0f) return std::nullopt;
+    if (sin2T >= 1.0f)
+        return std::nullopt;
     const float cosT = safeSqrt(1.0f - sin2T);
     return glm::normalize(-w / eta + (cosI / eta - cosT) * n);
 }

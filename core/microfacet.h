@@ -10,7 +10,7 @@
 namespace penumbra {
 
 class GgxDistribution {
-public:
+  public:
     // alpha = perceptual roughness squared (glTF 2.0 spec, appendix B). Values below
     // kSmoothAlpha are treated as a perfect mirror by the BSDF, never evaluated here.
     explicit GgxDistribution(float alpha) : alpha2_(alpha * alpha), alpha_(alpha) {}
@@ -27,7 +27,8 @@ public:
     // alpha^2 / (pi (sin^2 + alpha^2 cos^2)^2) so that sin^2 = x^2 + y^2 keeps full precision
     // near the peak.
     float D(const Vec3& h) const {
-        if (h.z <= 0.0f) return 0.0f;
+        if (h.z <= 0.0f)
+            return 0.0f;
         const float t = (h.x * h.x + h.y * h.y) + alpha2_ * h.z * h.z;
         return alpha2_ / (kPi * t * t);
     }
@@ -60,14 +61,15 @@ public:
     // per unit solid angle of h. Requires wo.z > 0.
     float visibleNormalPdf(const Vec3& wo, const Vec3& h) const {
         const float cosOH = glm::dot(wo, h);
-        if (cosOH <= 0.0f || wo.z <= 0.0f) return 0.0f;
+        if (cosOH <= 0.0f || wo.z <= 0.0f)
+            return 0.0f;
         return G1(wo) * cosOH * D(h) / wo.z;
     }
 
     // Samples h from D_wo (Heitz 2018, Listing 1). Requires wo.z > 0; returns h with h.z >= 0.
     Vec3 sampleVisibleNormal(const Vec3& wo, Vec2 u) const;
 
-private:
+  private:
     float alpha2_;
     float alpha_;
 };

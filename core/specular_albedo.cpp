@@ -46,7 +46,8 @@ SchlickAlbedo integrateAlbedo(float mu, float alpha) {
             const float u2 = 0.25f + 0.5f * (l + 0.5f) / kQuadratureU2;
             const Vec3 h = ggx.sampleVisibleNormal(wo, Vec2(u1, u2));
             const Vec3 wi = reflect(wo, h);
-            if (wi.z <= 0.0f) continue;
+            if (wi.z <= 0.0f)
+                continue;
             const double weight = (hi - lo) * (1.0f + lambdaO) / (1.0f + lambdaO + ggx.lambda(wi));
             a += weight;
             b += weight * schlickWeight(glm::dot(wo, h));
@@ -56,7 +57,7 @@ SchlickAlbedo integrateAlbedo(float mu, float alpha) {
 }
 
 class AlbedoTable {
-public:
+  public:
     AlbedoTable() {
         for (int j = 0; j < kRoughSize; ++j) {
             const float roughness = sqr(float(j) / (kRoughSize - 1));
@@ -92,7 +93,7 @@ public:
         return lerp(average_[j], average_[j + 1], t);
     }
 
-private:
+  private:
     static SchlickAlbedo lerp(const SchlickAlbedo& x, const SchlickAlbedo& y, float t) {
         return {x.a + t * (y.a - x.a), x.b + t * (y.b - x.b)};
     }

@@ -37,21 +37,21 @@ double gaussLegendre2D(const std::function<float(const Vec3&)>& pdf, double c0, 
     return sum * 0.25 * hc * hp;
 }
 
-// Integral of pdf over one bin, the panel count doubled until two successive results agree.
-// The tolerance keeps the error of the expected count far below its Poisson noise (0.1
-// sqrt(expected) at 2e5 samples needs about 1e-4 relative, or 1e-8 absolute for the smallest
-// cells); narrow lobes such as GGX at alpha = 0.01 refine a few bins.
+// Integral of pdf over one bin, the panel count doubled until two successive results agree to
+// a tenth of the Poisson noise of the bin's expected count, sqrt(n I) / n for n samples, so that
+// integration error cannot fail the test; smooth bins stop at once, narrow lobes such as GGX at
+// alpha = 0.01 refine a few bins.
 double integrateBin(const std::function<float(const Vec3&)>& pdf, double c0, double c1, double p0,
-                    double p1) {
+                    double p1, double n) {
     constexpr int kMaxPanels = 128;
-    int n = 2;
-    double coarse = gaussLegendre2D(pdf, c0, c1, p0, p1, n);
+    int panels = 2;
+    double coarse = gaussLegendre2D(pdf, c0, c1, p0, p1, panels);
     while (true) {
-        n *= 2;
-        const double fine = gaussLegendre2D(pdf, c0, c1, p0, p1, n);
-        if (std::abs(fine - coarse) <= 1e-4 * std::abs(fine) + 1e-8 || n >= kMaxPanels) {
+        panels *= 2;
+        const double fine = gaussLegendre2D(pdf, c0, c1, p0, p1, panels);
+        const double tolerance = 0.1 * std::sqrt(std::max(n * std::abs(fine), 1.0)) / n;
+        if (std::abs(fine - coarse) <= tolerance || panels >= kMaxPanels)
             return fine;
-        }
         coarse = fine;
     }
 }
@@ -75,7 +75,8 @@ std::string formatTable(const char* title, const std::vector<double>& cells, int
 // x < a + 1, where it converges fast, and the continued fraction of Eq. 6.2.7, evaluated by the
 // modified Lentz method (section 5.2), otherwise.
 double regularizedGammaQ(double a, double x) {
-    if (x <= 0.0) return 1.0;
+    if (x <= 0.0)
+        return 1.0;
     const double logPrefactor = a * std::log(x) - x - std::lgamma(a);
     constexpr int kMaxIterations = 10000;
     constexpr double kEpsilon = 1e-15;
@@ -93,13 +94,16 @@ double regularizedGammaQ(double a, double x) {
         const double an = -i * (i - a);
         b += 2.0;
         d = an * d + b;
-        if (std::abs(d) < kTiny) d = kTiny;
+        if (std::abs(d) < kTiny)
+            d = kTiny;
         c = b + an / c;
-        if (std::abs(c) < kTiny) c = kTiny;
+        if (std::abs(c) < kTiny)
+            c = kTiny;
         d = 1.0 / d;
         const double delta = d * c;
         h *= delta;
-        if (std::abs(delta - 1.0) < kEpsilon) break;
+        if (std::abs(delta - 1.0) < kEpsilon)
+            break;
     }
     return std::exp(logPrefactor) * h;
 }
@@ -123,7 +127,8 @@ Chi2Result chi2Test(const std::function<std::optional<Vec3>(const Vec3& u)>& sam
         }
         const double cosTheta = std::clamp(double(w->z), -1.0, 1.0);
         double phi = std::atan2(double(w->y), double(w->x));
-        if (phi < 0.0) phi += 2.0 * kPiD;
+        if (phi < 0.0)
+            phi += 2.0 * kPiD;
         const int r = std::min(int((cosTheta + 1.0) * 0.5 * rows), rows - 1);
         const int c = std::min(int(phi / (2.0 * kPiD) * cols), cols - 1);
         observed[r * cols + c] += 1.0;
@@ -135,25 +140,24 @@ Chi2Result chi2Test(const std::function<std::optional<Vec3>(const Vec3& u)>& sam
         for (int c = 0; c < cols; ++c) {
             const double c0 = -1.0 + 2.0 * r / rows, c1 = -1.0 + 2.0 * (r + 1) / rows;
             const double p0 = 2.0 * kPiD * c / cols, p1 = 2.0 * kPiD * (c + 1) / cols;
-            expected[r * cols + c] = n * integrateBin(pdf, c0, c1, p0, p1);
+            expected[r * cols + c] = n * integrateBin(pdf, c0, c1, p0, p1, n);
         }
     }
     const double total = std::accumulate(expected.begin(), expected.end() - 1, 0.0);
     expected[binCount] = std::max(0.0, n - total);
 
     Chi2Result result;
-    const std::string tables =
-        formatTable("observed", observed, rows, cols) +
-        formatTable("expected", expected, rows, cols) +
-        "rejected or delta samples: observed " + std::to_string(observed[binCount]) +
-        ", expected " + std::to_string(expected[binCount]) + "\n";
+    const std::string tables = formatTable("observed", observed, rows, cols) +
+                               formatTable("expected", expected, rows, cols) +
+                               "rejected or delta samples: observed " +
+                               std::to_string(observed[binCount]) + ", expected " +
+                               std::to_string(expected[binCount]) + "\n";
 
     // Pool the cells expecting few samples, smallest first, into cells of at least minExpected
     // (pbrt-v4's Chi2Test). Samples where the integrated density is zero fail the test outright.
     std::vector<int> order(binCount + 1);
     std::iota(order.begin(), order.end(), 0);
-    std::sort(order.begin(), order.end(),
-              [&](int a, int b) { return expected[a] < expected[b]; });
+    std::sort(order.begin(), order.end(), [&](int a, int b) { return expected[a] < expected[b]; });
     double pooledObserved = 0.0, pooledExpected = 0.0;
     for (int index : order) {
         const double e = expected[index], o = observed[index];
@@ -174,7 +178,8 @@ Chi2Result chi2Test(const std::function<std::optional<Vec3>(const Vec3& u)>& sam
         }
     }
     if (pooledExpected > 0.0) {
-        result.statistic += (pooledObserved - pooledExpected) * (pooledObserved - pooledExpected) / pooledExpected;
+        result.statistic +=
+            (pooledObserved - pooledExpected) * (pooledObserved - pooledExpected) / pooledExpected;
         ++result.dof;
     }
     // The counts sum to the sample count, which removes one degree of freedom.

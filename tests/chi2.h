@@ -18,7 +18,7 @@ struct Chi2Options {
     int phiBins = 20;    // bins in phi over [0, 2 pi)
     int sampleCount = 200000;
     uint32_t seed = 1;
-    double minExpected = 5.0;   // cells expecting fewer samples are pooled (Cochran's rule)
+    double minExpected = 5.0;  // cells expecting fewer samples are pooled (Cochran's rule)
     double significance = 0.01;
     int testCount = 1;  // tests in the family: the level is Sidak-corrected over them
 };
