@@ -175,7 +175,10 @@ std::optional<Bsdf::Query> Bsdf::query(const Vec3& wo) const {
     const float m = params_.metallic;
     const float t = params_.transmission;
     const Color& base = params_.baseColor;
-    const SchlickAlbedo albedo = schlickAlbedo(mu, params_.roughness, smooth_);
+    // No specular layer and no metal (a pure Lambertian surface): skip the table lookup.
+    const bool hasSpecularLayer = m > 0.0f || params_.specular > 0.0f;
+    const SchlickAlbedo albedo = hasSpecularLayer ? schlickAlbedo(mu, params_.roughness, smooth_)
+                                                  : SchlickAlbedo{0.0f, 0.0f};
     q.albedo = params_.specular * albedo(f0_);
     const Color metal = albedo(base);
     const float opaqueShare = params_.thinWalled ? 1.0f : 1.0f - t;
