@@ -28,8 +28,10 @@ import struct
 import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-DEFAULT_DATA_DIR = "/work/shared/scenes/cornell-box-reference-data"
-DEFAULT_GLB = "/work/shared/scenes/cornell-box-bevy/CornellBox.glb"
+# The shared data folder sits beside the repository (../shared from the repository root).
+SHARED_SCENES = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "..", "shared", "scenes")
+DEFAULT_DATA_DIR = os.path.normpath(os.path.join(SHARED_SCENES, "cornell-box-reference-data"))
+DEFAULT_GLB = os.path.normpath(os.path.join(SHARED_SCENES, "cornell-box-bevy", "CornellBox.glb"))
 OUTPUT = os.path.join(HERE, "cornell-box.gltf")
 GENERATOR = "penumbra scenes/cornell-box/make_cornell_box.py"
 
