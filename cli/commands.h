@@ -5,11 +5,31 @@
 
 #include <CLI/CLI.hpp>
 
+#include <cstdlib>
 #include <functional>
+#include <string>
 
 namespace penumbra::cli {
 
 using Command = std::function<void()>;
+
+// Accepts numbers >= minimum. CLI11's PositiveNumber refuses "--spp 0" with "Value 0 not in range
+// 0.000000 to 1797693134862315708...", which names the wrong bound; this says "--spp: 0 is less
+// than 1". Non-numbers pass through to CLI11's own conversion error.
+inline CLI::Validator atLeast(int minimum) {
+    const std::string bound = std::to_string(minimum);
+    return CLI::Validator(
+        [minimum, bound](std::string& text) -> std::string {
+            char* end = nullptr;
+            const double value = std::strtod(text.c_str(), &end);
+            if (end == text.c_str() || *end != '\0' || !(value < minimum))
+                return "";
+            return text + " is less than " + bound;
+        },
+        minimum == 0   ? "NONNEGATIVE"
+        : minimum == 1 ? "POSITIVE"
+                       : ">=" + bound);
+}
 
 Command addRenderCommand(CLI::App& app);
 Command addInfoCommand(CLI::App& app);

@@ -7,6 +7,7 @@
 #include "core/tonemap.h"
 #include "core/version.h"
 #include "passes/pipeline.h"
+#include "raytrace/image_renderer.h"
 
 #include <tbb/global_control.h>
 #include <tbb/info.h>
@@ -44,11 +45,12 @@ void render(RenderOptions& options) {
     RenderSettings& settings = options.settings;
     settings.quiet = options.scene.quiet;
     settings.aovs = splitList(options.aovList);
-    // Refuse a bad output path or tone-mapping operator before spending time on the render.
+    // Refuse bad outputs and option values before spending time on loading and rendering.
     for (const std::string& output : options.outputs)
         checkOutputPath(output);
     const ToneMapping toneMapping{options.exposure, parseToneMapOperator(options.tonemap)};
     parseFilter(settings.filter);
+    aovSpecs(settings.aovs);
 
     const auto start = std::chrono::steady_clock::now();
     const std::unique_ptr<Scene> scene = loadScene(options.scene);
@@ -94,7 +96,7 @@ void render(RenderOptions& options) {
         for (const std::string& output : options.outputs)
             std::cerr << "penumbra: wrote " << output << "\n";
         std::cerr << "penumbra: " << size.x << "x" << size.y << ", pipeline " << pipeline.name()
-                  << ", " << seconds << " s)\n";
+                  << ", " << seconds << " s\n";
         for (const auto& pass : pipeline.passes()) {
             for (const auto& [key, value] : pass->stats()) {
                 std::cerr << "  " << pass->type() << " " << key << ": " << value << "\n";
@@ -124,18 +126,18 @@ Command addRenderCommand(CLI::App& app) {
     command->add_option("--pipeline", options->pipeline, "Pipeline preset:" + pipelines)
         ->capture_default_str();
     command->add_option("--spp", s.spp, "Samples per pixel (the target with --time-limit)")
-        ->check(CLI::PositiveNumber)
+        ->check(atLeast(1))
         ->capture_default_str();
     command
         ->add_option("--width", s.width,
                      "Image width in pixels (default: from --height and "
                      "the camera's aspect ratio, else 640)")
-        ->check(CLI::PositiveNumber);
-    command->add_option("--height", s.height, "Image height in pixels")->check(CLI::PositiveNumber);
+        ->check(atLeast(1));
+    command->add_option("--height", s.height, "Image height in pixels")->check(atLeast(1));
     command->add_option("--seed", s.seed, "Random seed; same seed, same image")
         ->capture_default_str();
     command->add_option("--threads", s.threads, "Worker threads (default: all cores)")
-        ->check(CLI::NonNegativeNumber);
+        ->check(atLeast(0));
     command
         ->add_option("--time-limit", s.timeLimit,
                      "Stop after this many seconds, at a whole pass of samples")

@@ -1,5 +1,6 @@
 #include "cli/scene_input.h"
 
+#include "cli/commands.h"
 #include "core/errors.h"
 #include "core/gltf_loader.h"
 
@@ -13,7 +14,7 @@ void addSceneInputOptions(CLI::App& command, SceneInput& input) {
     command
         .add_option("--scene-index", input.sceneIndex,
                     "Which of the file's glTF scenes to use (default: the file's `scene`)")
-        ->check(CLI::NonNegativeNumber);
+        ->check(atLeast(0));
     command.add_flag("-q,--quiet", input.quiet, "Print nothing but errors");
 }
 

@@ -65,14 +65,6 @@ std::optional<Vec3> halfVector(const Vec3& wo, const Vec3& wi, float eta) {
 
 }  // namespace
 
-struct Bsdf::Query {
-    Vec3 wo;       // local, mirrored so that wo.z > 0
-    bool front;    // wo on the front side of the geometric normal
-    float eta;     // relative IOR n(wi side) / n(wo side) of refraction: ior from the front
-    Color albedo;  // E(mu_o) of the dielectric specular layer (two-sided Schlick)
-    float pDiffuse = 0.0f, pReflection = 0.0f, pGlass = 0.0f;  // strategy selection
-};
-
 Bsdf::Bsdf(const ShadingParams& params, const Frame& shading, const Vec3& ng)
     : params_(params), shading_(shading), ng_(ng) {
     // The spec's ranges; ior >= 1 (KHR_materials_ior), and index-matched ior exactly 1.
@@ -98,8 +90,9 @@ Bsdf::Bsdf(const ShadingParams& params, const Frame& shading, const Vec3& ng)
     // E_avg = 2 integral E(mu) mu dmu; for a mirror E = s F(mu), whose (1 - mu)^5 part averages
     // to 2 * B(2, 6) = 1/21.
     const float s = params_.specular;
-    albedoAvg_ = smooth_ ? s * (f0_ + (Color(1.0f) - f0_) / 21.0f)
-                         : s * ggxSchlickAlbedoAverage(params_.roughness)(f0_);
+    albedoAvg_ = s <= 0.0f ? Color(0.0f)
+                 : smooth_ ? s * (f0_ + (Color(1.0f) - f0_) / 21.0f)
+                           : s * ggxSchlickAlbedoAverage(params_.roughness)(f0_);
 
     const float m = params_.metallic;
     const float t = params_.transmission;
@@ -131,6 +124,8 @@ Vec3 Bsdf::toWorld(const Vec3& w, bool front) const {
 
 // E(mu) of the dielectric specular layer per channel: s (F0 A + (1 - F0) B), exact for a mirror.
 Color Bsdf::specularAlbedo(float cosTheta) const {
+    if (params_.specular <= 0.0f)
+        return Color(0.0f);  // no specular layer: skip the table lookup
     return params_.specular * schlickAlbedo(cosTheta, params_.roughness, smooth_)(f0_);
 }
 
@@ -158,6 +153,15 @@ float Bsdf::glassReflectionChoice(const Query& q, float cosTheta) const {
 }
 
 std::optional<Bsdf::Query> Bsdf::query(const Vec3& wo) const {
+    // A tracer asks f, pdf and sample for the same wo at a vertex: compute the query once.
+    if (cachedQuery_ && wo == cachedWo_)
+        return *cachedQuery_;
+    cachedWo_ = wo;
+    cachedQuery_ = computeQuery(wo);
+    return *cachedQuery_;
+}
+
+std::optional<Bsdf::Query> Bsdf::computeQuery(const Vec3& wo) const {
     const float cosGeometric = glm::dot(wo, ng_);
     if (!(std::abs(cosGeometric) > 0.0f) || !std::isfinite(cosGeometric))
         return std::nullopt;

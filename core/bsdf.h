@@ -76,9 +76,16 @@ class Bsdf {
 
   private:
     // One wo in the local frame, with the quantities every query about it needs.
-    struct Query;
+    struct Query {
+        Vec3 wo;       // local, mirrored so that wo.z > 0
+        bool front;    // wo on the front side of the geometric normal
+        float eta;     // relative IOR n(wi side) / n(wo side) of refraction: ior from the front
+        Color albedo;  // E(mu_o) of the dielectric specular layer (two-sided Schlick)
+        float pDiffuse = 0.0f, pReflection = 0.0f, pGlass = 0.0f;  // strategy selection
+    };
 
     std::optional<Query> query(const Vec3& wo) const;
+    std::optional<Query> computeQuery(const Vec3& wo) const;
     Vec3 toLocal(const Vec3& w, bool front) const;
     Vec3 toWorld(const Vec3& w, bool front) const;
     Color specularAlbedo(float cosTheta) const;
@@ -91,6 +98,9 @@ class Bsdf {
     Frame shading_;         // normal turned to the side of ng_
     Vec3 ng_;
     uint32_t lobes_ = kLobeNone;
+    // The last query, reused while wo stays the same (a Bsdf lives in one thread).
+    mutable Vec3 cachedWo_{0.0f};
+    mutable std::optional<std::optional<Query>> cachedQuery_;
     float alpha_ = 0.0f;            // GGX alpha = roughness^2
     bool smooth_ = false;           // alpha below GgxDistribution::kSmoothAlpha: delta lobes
     bool deltaRefraction_ = false;  // smooth, or index-matched (ior 1): refraction is a delta

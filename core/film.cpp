@@ -27,7 +27,7 @@ FilterType parseFilter(std::string_view name) {
             return type;
         }
     }
-    throw UsageError("unknown filter \"" + std::string(name) +
+    throw UsageError("--filter: unknown filter \"" + std::string(name) +
                      "\" (valid: box, gaussian, blackman-harris)");
 }
 

@@ -57,13 +57,19 @@ Color SpotLight::intensity(const Vec3& w) const {
     return desc_.color * desc_.intensity * falloff;
 }
 
-// Integral of the falloff over the sphere: full intensity inside the inner cone,
-// 2 pi (1 - cos_inner), plus the ramp, integrated exactly: with x = cos theta,
-// 2 pi * integral_{cos_outer}^{cos_inner} ((x - cos_outer) / delta)^2 dx = 2 pi delta / 3.
+// Integral of the falloff over the sphere, with x = cos theta and the ramp
+// t = (x - cos_outer) / delta, delta = max(0.001, cos_inner - cos_outer): full intensity from the
+// ramp's end x1 to 1, 2 pi (1 - x1), plus the ramp integrated exactly,
+// 2 pi * integral_{cos_outer}^{x1} t^2 dx = 2 pi (x1 - cos_outer)^3 / (3 delta^2).
+// x1 = cos_outer + delta is cos_inner unless the cones nearly coincide, and is cut at 1 when the
+// whole outer cone is narrower than 0.001 in cos (outer < 2.56 degrees): such a spot never
+// reaches full intensity.
 Color SpotLight::power() const {
     const float delta = glm::max(0.001f, cosInner_ - cosOuter_);
-    const float rampEnd = cosOuter_ + delta;  // equals cos_inner unless the cones nearly coincide
-    const float solidAngle = 2.0f * kPi * (1.0f - rampEnd) + 2.0f * kPi * delta / 3.0f;
+    const float ramp = glm::min(delta, 1.0f - cosOuter_);  // x1 - cos_outer
+    const float rampEnd = cosOuter_ + ramp;
+    const float solidAngle =
+        2.0f * kPi * (1.0f - rampEnd) + 2.0f * kPi * ramp * ramp * ramp / (3.0f * delta * delta);
     return desc_.color * desc_.intensity * solidAngle;
 }
 

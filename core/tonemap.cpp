@@ -39,7 +39,7 @@ ToneMapOperator parseToneMapOperator(std::string_view name) {
             return op;
         }
     }
-    throw UsageError("unknown tone-mapping operator \"" + std::string(name) +
+    throw UsageError("--tonemap: unknown tone-mapping operator \"" + std::string(name) +
                      "\" (valid: clamp, reinhard, aces)");
 }
 

@@ -16,20 +16,14 @@ namespace {
 // Tiles of 16 x 16 pixels balance the load on two to many cores without much scheduling cost.
 constexpr int kTileSize = 16;
 
-const std::vector<std::string> kKnownAovs = {"albedo", "normal", "depth"};
-
-std::vector<std::string> checkedAovs(const std::vector<std::string>& names) {
-    for (const std::string& name : names) {
-        if (std::find(kKnownAovs.begin(), kKnownAovs.end(), name) == kKnownAovs.end()) {
-            throw UsageError("--aov: unknown layer '" + name + "'; valid: albedo, normal, depth");
-        }
-    }
-    return names;
-}
+}  // namespace
 
 std::vector<AovSpec> aovSpecs(const std::vector<std::string>& names) {
     std::vector<AovSpec> specs;
     for (const std::string& name : names) {
+        if (name != "albedo" && name != "normal" && name != "depth") {
+            throw UsageError("--aov: unknown layer '" + name + "'; valid: albedo, normal, depth");
+        }
         if (name == "normal") {
             specs.push_back({name, {"X", "Y", "Z"}});
         } else if (name == "depth") {
@@ -40,6 +34,8 @@ std::vector<AovSpec> aovSpecs(const std::vector<std::string>& names) {
     }
     return specs;
 }
+
+namespace {
 
 Vec3 aovValue(const std::string& name, const FirstHit& hit) {
     if (!hit.valid)
@@ -59,7 +55,7 @@ ImageRenderer::ImageRenderer(const Camera& camera, const RenderSettings& setting
       settings_(settings),
       estimator_(std::move(estimator)),
       filter_(parseFilter(settings.filter)),
-      aovNames_(checkedAovs(settings.aovs)),
+      aovNames_(settings.aovs),
       film_(settings.width, settings.height, aovSpecs(aovNames_)) {}
 
 void ImageRenderer::renderSamplePass() {

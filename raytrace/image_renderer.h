@@ -16,6 +16,9 @@
 
 namespace penumbra {
 
+// The film layers for AOV names (albedo, normal, depth); UsageError for an unknown name.
+std::vector<AovSpec> aovSpecs(const std::vector<std::string>& names);
+
 // Radiance estimate for one camera ray (see PathTracer::Li for the contract).
 using RadianceEstimator = std::function<Color(const Ray&, Sampler&, FirstHit*, PathCounters&)>;
 
