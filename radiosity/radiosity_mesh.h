@@ -1,0 +1,247 @@
+// The element mesh of the radiosity pass: every opaque scene triangle split into patches, each
+// patch the root of a quadtree of triangular elements (1:4 splits), with vertices shared between
+// neighbouring elements so that a per-element solution can be shown Gouraud-interpolated without
+// cracks or T-junction jumps. The solver (Hanrahan, Salzman and Aupperle 1991) refines the
+// quadtrees through split() and keeps its own per-element arrays, indexed by element id.
+//
+// Conventions:
+//  - Elements are identified by int ids, stable for the life of the mesh. The patches are ids
+//    [0, patchCount()); the four children of a split element have consecutive ids, child c
+//    (c = 0, 1, 2) at the parent's corner c and child 3 in the middle:
+//        child 0: (c0, m01, m20), child 1: (m01, c1, m12), child 2: (m20, m12, c2),
+//        child 3: (m12, m20, m01),
+//    with mij the midpoint of the edge ci cj. Corners run counter-clockwise seen from the front,
+//    the front being the side the scene triangle's counter-clockwise winding faces.
+//  - Vertices are identified by uint32_t ids. A vertex is shared by every element that has it as
+//    a corner, across patches and, through the scene mesh's own vertex indices, across scene
+//    triangles of one mesh. (glTF meshes duplicate vertices at hard edges and UV seams: those
+//    stay separate, and so do the corners of a triangle that would make the mesh non-manifold.)
+//  - Units: metres, square metres; rho is a reflectance in [0, 1] per channel; Le is a radiance
+//    in cd/m² per channel.
+//
+// Only radiosity_mesh.cpp sees OpenMesh (STYLE.md, "One module per third-party library"); it holds
+// the leaf elements as a polygon mesh in which an element next to a finer neighbour carries that
+// neighbour's midpoints on its edges (T-vertices, leafBoundary()).
+#pragma once
+
+#include "core/math.h"
+
+#include <array>
+#include <cassert>
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <vector>
+
+namespace penumbra {
+
+class Scene;
+
+struct MeshingSettings {
+    // Longest edge of a patch, metres; 0 = 1/10 of the scene's bounding radius.
+    float patchEdgeLength = 0.0f;
+    // Smallest element area split() may create, m²; 0 = the element's patch area / 4^6, i.e. at
+    // most six levels of 1:4 splits below each patch.
+    float minElementArea = 0.0f;
+};
+
+// Sizes for the log (STYLE.md, "Counters").
+struct RadiosityMeshStats {
+    size_t patches = 0;
+    size_t elements = 0;  // patches and every element below them
+    size_t leaves = 0;
+    size_t vertices = 0;
+    // Midpoints on an edge whose other side is not split, as of the last setElementValues().
+    size_t tVertices = 0;
+    size_t memoryBytes = 0;  // estimate of what the mesh holds, OpenMesh's arrays included
+};
+
+// A point inside an element: the element and the point's barycentric weights with respect to the
+// element's corners (vertices(element)); element -1 when the point lies on no meshed triangle.
+struct ElementPoint {
+    int element = -1;
+    Vec3 weights{0.0f};
+};
+
+class RadiosityMesh {
+  public:
+    static constexpr int kChildren = 4;
+
+    // Meshes every triangle of every scene mesh whose material is opaque, in the sense of having
+    // no transmission (transmission factor 0; alpha cut-outs are meshed as if opaque). Each
+    // triangle is split uniformly into n^2 patches, n = 2^k the smallest power of two with
+    // (longest edge) / n <= patchEdgeLength. A power of two, not ceil(longest edge / length): with
+    // it the patch grids of two triangles sharing an edge nest (the coarser one's patch vertices
+    // are among the finer one's), so the T-vertex rule of setElementValues() keeps the
+    // interpolated field continuous across the scene's own edges too. The mesh keeps a reference
+    // to the scene, which must outlive it. Throws std::invalid_argument for a negative or NaN
+    // setting, or for settings that would give more than 2^31 - 1 patches.
+    RadiosityMesh(const Scene& scene, const MeshingSettings& settings);
+    ~RadiosityMesh();
+    RadiosityMesh(const RadiosityMesh&) = delete;
+    RadiosityMesh& operator=(const RadiosityMesh&) = delete;
+    RadiosityMesh(RadiosityMesh&&) noexcept;
+    RadiosityMesh& operator=(RadiosityMesh&&) noexcept;
+
+    // The resolved settings (defaults replaced by the values they stand for).
+    float patchEdgeLength() const { return patchEdgeLength_; }
+    // Smallest area split() may give a child of `element`, m².
+    float minElementArea(int element) const {
+        return minElementArea_ > 0.0f ? minElementArea_ : area(patch(element)) / 4096.0f;
+    }
+
+    size_t patchCount() const { return patchCount_; }
+    size_t elementCount() const { return elements_.size(); }
+    size_t leafCount() const { return leafCount_; }
+    size_t vertexCount() const { return positions_.size(); }
+    RadiosityMeshStats stats() const;
+
+    // --- The quadtrees ---------------------------------------------------------------------
+
+    // -1 for a patch.
+    int parent(int element) const { return at(element).parent; }
+    // The first of the four consecutive children, -1 for a leaf.
+    int firstChild(int element) const { return at(element).firstChild; }
+    bool isLeaf(int element) const { return at(element).firstChild < 0; }
+    // The patch (quadtree root) the element belongs to; a patch is its own.
+    int patch(int element) const { return at(element).patch; }
+    // Number of splits between the patch and the element (0 for a patch).
+    int level(int element) const { return at(element).level; }
+    // Whether split(element) is allowed: the element is a leaf and its children would be at least
+    // minElementArea(element).
+    bool canSplit(int element) const {
+        return isLeaf(element) && area(element) * 0.25f >= minElementArea(element);
+    }
+    // Splits a leaf 1:4 at its edge midpoints and returns the id of its first child. A midpoint
+    // is shared with the neighbouring element across that edge (it exists already if the
+    // neighbour was split first). Children inherit the parent's normal, get exactly a quarter of
+    // its area, and their own rho and Le. An element split before is returned unchanged (its
+    // first child). Throws std::logic_error if !canSplit(element) for a leaf. Invalidates the
+    // values of the last setElementValues(), which must be called again before interpolating.
+    int split(int element);
+
+    // --- Geometry ----------------------------------------------------------------------------
+
+    // Corner vertex ids, counter-clockwise seen from the front.
+    const std::array<uint32_t, 3>& vertices(int element) const { return at(element).vertices; }
+    // Corner positions in world space, in the order of vertices().
+    std::array<Vec3, 3> corners(int element) const {
+        const auto& v = at(element).vertices;
+        return {positions_[v[0]], positions_[v[1]], positions_[v[2]]};
+    }
+    const Vec3& position(uint32_t vertex) const {
+        assert(vertex < positions_.size());
+        return positions_[vertex];
+    }
+    // m²; a patch has 1/n^2 of its scene triangle's area, a child exactly 1/4 of its parent's.
+    float area(int element) const { return at(element).area; }
+    // Unit normal on the front side: the scene triangle's geometric normal.
+    const Vec3& normal(int element) const { return at(element).normal; }
+    Vec3 centroid(int element) const {
+        const auto c = corners(element);
+        return (c[0] + c[1] + c[2]) / 3.0f;
+    }
+    // The vertices around a leaf, counter-clockwise from corner 0: its three corners and, between
+    // them, the T-vertices that finer neighbours put on its edges. A triangle fan of these without
+    // T-junctions (e.g. from the centroid) is what an exporter writes. Throws std::logic_error for
+    // an element that is not a leaf.
+    std::vector<uint32_t> leafBoundary(int element) const;
+
+    // --- Where it lies in the scene -----------------------------------------------------------
+
+    // Index of the scene mesh (Scene::meshes()) and of the triangle in it.
+    uint32_t sceneMesh(int element) const { return at(element).mesh; }
+    uint32_t sceneTriangle(int element) const { return at(element).triangle; }
+    // Barycentric coordinates of the corners in the scene triangle (weights of its vertices 0,
+    // 1, 2), in the order of vertices(). Exact: dyadic fractions.
+    const std::array<Vec3, 3>& barycentrics(int element) const { return at(element).barycentric; }
+
+    // --- Material ----------------------------------------------------------------------------
+
+    // Diffuse reflectance: Bsdf::diffuseReflectance() of Scene::bsdf() at the centroid; for a
+    // material whose diffuse reflectance varies over the surface (a base colour, metallic-
+    // roughness, specular or specular colour texture), the mean over four points: the centroid
+    // and the midpoints between it and each corner.
+    const Color& rho(int element) const { return at(element).rho; }
+    // Emitted radiance towards the front (Scene::emitted), averaged like rho when the emission is
+    // textured; the back emits nothing unless twoSided().
+    const Color& Le(int element) const { return at(element).Le; }
+    // The material is double-sided: the back reflects (with the same rho) and emits (the same Le)
+    // like the front.
+    bool twoSided(int element) const { return at(element).twoSided; }
+
+    // --- Lookups and interpolation -----------------------------------------------------------
+
+    // The leaf containing the point with barycentric coordinates b in scene triangle (mesh,
+    // triangle), found in O(1) for the patch and O(level) below it, and the point's weights in
+    // it. b is clamped into the triangle first. element -1 if the triangle is not meshed.
+    ElementPoint locate(uint32_t mesh, uint32_t triangle, const Vec3& b) const;
+
+    // Takes one value per element (size elementCount(); only the leaves' values are used) and
+    // computes the per-vertex values of the Gouraud interpolation: the area-weighted average of
+    // the leaves having the vertex as a corner (nodal averaging), except at T-vertices, which
+    // take the linear interpolation along the edge they lie on, so the interpolated field is
+    // continuous (Cohen and Wallace 1993, "Radiosity and Realistic Image Synthesis", ch. 6;
+    // the anchoring of T-vertices of Baum, Mann, Smith and Winget 1991, "Making Radiosity
+    // Usable", SIGGRAPH '91). Throws std::invalid_argument for a wrong size.
+    void setElementValues(std::span<const Color> perElement);
+    // The value computed by setElementValues() at a vertex.
+    Color vertexValue(uint32_t vertex) const;
+    // The Gouraud interpolation at a point (see locate()): the leaf's corner values weighted by
+    // the point's barycentrics. A constant field is returned exactly. Zero on a triangle that is
+    // not meshed. Throws std::logic_error if setElementValues() was not called since the last
+    // split.
+    Color interpolate(uint32_t mesh, uint32_t triangle, const Vec3& b) const;
+    // The leaf's own (flat) value at a point; same conventions as interpolate().
+    Color elementValue(uint32_t mesh, uint32_t triangle, const Vec3& b) const;
+
+  private:
+    struct Element {
+        std::array<uint32_t, 3> vertices{};
+        std::array<Vec3, 3> barycentric{};
+        Vec3 normal{0.0f};
+        float area = 0.0f;
+        Color rho{0.0f};
+        Color Le{0.0f};
+        uint32_t mesh = 0;
+        uint32_t triangle = 0;
+        int parent = -1;
+        int firstChild = -1;
+        int patch = -1;
+        int face = -1;  // the leaf's face in the OpenMesh mesh, -1 once split
+        uint8_t level = 0;
+        bool twoSided = false;
+    };
+    // Per scene triangle: its first patch and the number of patches along an edge (n = 2^level).
+    struct TrianglePatches {
+        int firstPatch = -1;  // -1: not meshed
+        uint8_t level = 0;
+    };
+    // OpenMesh's mesh and properties, per-material caches (radiosity_mesh.cpp).
+    struct Impl;
+
+    const Element& at(int element) const {
+        assert(element >= 0 && static_cast<size_t>(element) < elements_.size());
+        return elements_[static_cast<size_t>(element)];
+    }
+    void setMaterial(Element& element);
+    void syncPositions();
+    void checkValuesCurrent() const;
+
+    const Scene* scene_;
+    float patchEdgeLength_ = 0.0f;
+    float minElementArea_ = 0.0f;  // 0: relative to the patch
+    std::unique_ptr<Impl> impl_;
+    std::vector<Element> elements_;
+    std::vector<Vec3> positions_;                          // per vertex
+    std::vector<std::vector<TrianglePatches>> triangles_;  // per scene mesh, per triangle
+    size_t patchCount_ = 0;
+    size_t leafCount_ = 0;
+    // Gouraud interpolation, from setElementValues()
+    std::vector<Color> elementValues_;
+    std::vector<Color> vertexValues_;
+    size_t tVertexCount_ = 0;
+};
+
+}  // namespace penumbra
