@@ -67,14 +67,20 @@ std::optional<SurfaceHit> Scene::intersect(const Ray& ray) const {
     const std::optional<RawHit> raw = accel_->intersect(ray);
     if (!raw)
         return std::nullopt;
-    const Mesh& mesh = desc_.meshes[raw->mesh];
-    const glm::uvec3 index = mesh.triangles[raw->triangle];
+    SurfaceHit hit =
+        surfaceAt(raw->mesh, raw->triangle, Vec3(1.0f - raw->u - raw->v, raw->u, raw->v));
+    hit.t = raw->t;
+    return hit;
+}
+
+SurfaceHit Scene::surfaceAt(uint32_t meshIndex, uint32_t triangle, const Vec3& b) const {
+    const Mesh& mesh = desc_.meshes[meshIndex];
+    const glm::uvec3 index = mesh.triangles[triangle];
     const Vec3 &p0 = mesh.positions[index.x], &p1 = mesh.positions[index.y],
                &p2 = mesh.positions[index.z];
 
     SurfaceHit hit;
-    hit.barycentric = Vec3(1.0f - raw->u - raw->v, raw->u, raw->v);
-    const Vec3& b = hit.barycentric;
+    hit.barycentric = b;
     hit.p = b.x * p0 + b.y * p1 + b.z * p2;
     hit.pError = barycentricPointError(b, p0, p1, p2);
     hit.ng = glm::normalize(glm::cross(p1 - p0, p2 - p0));
@@ -96,9 +102,8 @@ std::optional<SurfaceHit> Scene::intersect(const Ray& ray) const {
         if (!uv.empty())
             hit.uv[set] = b.x * uv[index.x] + b.y * uv[index.y] + b.z * uv[index.z];
     }
-    hit.t = raw->t;
-    hit.mesh = raw->mesh;
-    hit.triangle = raw->triangle;
+    hit.mesh = meshIndex;
+    hit.triangle = triangle;
     hit.material = mesh.material;
     return hit;
 }

@@ -35,6 +35,10 @@ class Scene {
 
     // Closest surface along the ray.
     std::optional<SurfaceHit> intersect(const Ray& ray) const;
+    // The surface point at barycentric coordinates b of a triangle (t left at 0): what
+    // intersect() returns for a ray that hits it there; also for passes that place their own
+    // points on surfaces (radiosity elements).
+    SurfaceHit surfaceAt(uint32_t mesh, uint32_t triangle, const Vec3& b) const;
 
     const Material& material(const SurfaceHit& hit) const { return desc_.materials[hit.material]; }
     // The BSDF at a hit, with the material's textures and normal map applied.

@@ -72,31 +72,6 @@ bool emissionVaries(const Material& m) {
     return m.isEmissive() && m.emissiveTexture.valid();
 }
 
-// The surface point at barycentric b of a scene triangle, with what Scene::bsdf() and
-// Scene::emitted() read for the diffuse reflectance and the front emission: position, texture
-// coordinates and the geometric normal (also as shading normal, since neither quantity depends
-// on the shading frame).
-SurfaceHit surfacePoint(const Scene& scene, uint32_t meshIndex, uint32_t triangle, const Vec3& b,
-                        const Vec3& ng) {
-    const Mesh& mesh = scene.meshes()[meshIndex];
-    const glm::uvec3 index = mesh.triangles[triangle];
-    SurfaceHit hit;
-    hit.p = b.x * mesh.positions[index.x] + b.y * mesh.positions[index.y] +
-            b.z * mesh.positions[index.z];
-    hit.ng = ng;
-    hit.ns = ng;
-    for (int set = 0; set < 2; ++set) {
-        const auto& uv = mesh.uvs[set];
-        if (!uv.empty())
-            hit.uv[set] = b.x * uv[index.x] + b.y * uv[index.y] + b.z * uv[index.z];
-    }
-    hit.barycentric = b;
-    hit.mesh = meshIndex;
-    hit.triangle = triangle;
-    hit.material = mesh.material;
-    return hit;
-}
-
 }  // namespace
 
 struct RadiosityMesh::Impl {
@@ -376,11 +351,10 @@ void RadiosityMesh::syncPositions() {
 void RadiosityMesh::setMaterial(Element& e) {
     Impl::MaterialValues& values = impl_->materials[scene_->meshes()[e.mesh].material];
     const auto rhoAt = [&](const Vec3& b) {
-        return scene_->bsdf(surfacePoint(*scene_, e.mesh, e.triangle, b, e.normal))
-            .diffuseReflectance();
+        return scene_->bsdf(scene_->surfaceAt(e.mesh, e.triangle, b)).diffuseReflectance();
     };
     const auto LeAt = [&](const Vec3& b) {
-        return scene_->emitted(surfacePoint(*scene_, e.mesh, e.triangle, b, e.normal), e.normal);
+        return scene_->emitted(scene_->surfaceAt(e.mesh, e.triangle, b), e.normal);
     };
     // Where a value varies, the mean over the centroid and the midpoints between it and each
     // corner: a degree-1 rule exact for a linear variation, enough for an albedo or emission
