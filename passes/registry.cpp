@@ -3,6 +3,7 @@
 #include "core/errors.h"
 #include "passes/path_pass.h"
 #include "passes/pipeline.h"
+#include "passes/radiosity_pass.h"
 
 #include <functional>
 #include <utility>
@@ -19,6 +20,12 @@ const std::vector<std::pair<std::string, PresetFactory>>& presets() {
          [](const RenderSettings& settings) {
              std::vector<std::unique_ptr<Pass>> passes;
              passes.push_back(std::make_unique<PathPass>(PathTracerSettings{settings.maxDepth}));
+             return passes;
+         }},
+        {"radiosity",
+         [](const RenderSettings&) {
+             std::vector<std::unique_ptr<Pass>> passes;
+             passes.push_back(std::make_unique<RadiosityPass>(RadiositySettings{}));
              return passes;
          }},
     };

@@ -1,0 +1,114 @@
+#include "passes/radiosity_pass.h"
+
+#include "core/material.h"
+
+#include <sstream>
+
+namespace penumbra {
+
+namespace {
+
+double secondsSince(std::chrono::steady_clock::time_point start) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// Layers of thin glass a camera ray may pass before it gives up (as Scene::transmittance()).
+constexpr int kMaxTransparentLayers = 64;
+
+std::string format(double value) {
+    std::ostringstream out;
+    out.precision(4);
+    out << value;
+    return out.str();
+}
+
+}  // namespace
+
+RadiosityPass::RadiosityPass(RadiositySettings settings) : settings_(std::move(settings)) {
+    validateRadiositySettings(settings_);
+}
+
+RadiosityPass::~RadiosityPass() = default;
+
+void RadiosityPass::prepare(PassContext& context) {
+    scene_ = &context.scene;
+    mesh_ = std::make_unique<RadiosityMesh>(context.scene, settings_.meshing(context.scene));
+    solver_ = std::make_unique<RadiositySolver>(context.scene, *mesh_, settings_);
+    solver_->solve();
+    renderer_ = std::make_unique<ImageRenderer>(
+        context.camera, context.settings,
+        [this](const Ray& ray, Sampler&, FirstHit* firstHit, PathCounters& counters) {
+            return Li(ray, firstHit, counters);
+        });
+    progress_ = std::make_unique<Progress>(
+        "radiosity view", static_cast<uint64_t>(context.settings.spp), context.settings.quiet);
+    renderStart_ = std::chrono::steady_clock::now();
+}
+
+Color RadiosityPass::Li(Ray ray, FirstHit* firstHit, PathCounters& counters) const {
+    Color beta(1.0f);
+    const Vec3 cameraOrigin = ray.o;
+    for (int layer = 0; layer <= kMaxTransparentLayers; ++layer) {
+        ++counters.rays;
+        const std::optional<SurfaceHit> hit = scene_->intersect(ray);
+        if (!hit)
+            return Color(0.0f);
+        const bool front = hit->frontFace(ray.d);
+        if (mesh_->locate(hit->mesh, hit->triangle, hit->barycentric).element >= 0) {
+            if (firstHit && !firstHit->valid) {
+                firstHit->valid = true;
+                firstHit->albedo =
+                    evaluateMaterial(scene_->material(*hit), scene_->textures(), hit->uv).baseColor;
+                firstHit->normal = scene_->bsdf(*hit).shadingNormal();
+                firstHit->depth = glm::distance(hit->p, cameraOrigin);
+            }
+            return beta *
+                   solver_->radiance(hit->mesh, hit->triangle, hit->barycentric, true, front);
+        }
+        // A surface the mesh does not hold (transmissive): only thin glass lets light through.
+        beta *= scene_->straightTransmittance(*hit, scene_->bsdf(*hit), -ray.d);
+        if (maxComponent(beta) <= 0.0f)
+            return Color(0.0f);
+        ray = Scene::spawnRay(*hit, ray.d);
+    }
+    return Color(0.0f);
+}
+
+bool RadiosityPass::run(PassContext& context) {
+    renderer_->renderSamplePass();
+    progress_->advance(1);
+    renderSeconds_ = secondsSince(renderStart_);
+    if (renderer_->samplesDone() < context.settings.spp)
+        return false;
+    progress_->finish();
+    context.layers["beauty"] = renderer_->film().resolve();
+    const auto& aovs = renderer_->aovNames();
+    for (size_t a = 0; a < aovs.size(); ++a)
+        context.layers[aovs[a]] = renderer_->film().resolveAov(static_cast<int>(a));
+    return true;
+}
+
+PassStats RadiosityPass::stats() const {
+    // The resolved settings first, so that every image says how it was made (STYLE.md).
+    const MeshingSettings meshing = settings_.meshing(*scene_);
+    PassStats stats = {
+        {"solver", settings_.solver},
+        {"epsilon", format(settings_.epsilon)},
+        {"patch_edge_length", format(meshing.patchEdgeLength)},
+        {"min_element_area", format(meshing.minElementArea)},
+        {"convergence", format(settings_.convergence)},
+        {"visibility_samples", std::to_string(settings_.visibilitySamples)},
+        {"max_iterations", std::to_string(settings_.maxIterations)},
+        {"max_refinements", std::to_string(settings_.maxRefinements)},
+        {"iteration",
+         settings_.iteration == RadiositySettings::Iteration::Jacobi ? "jacobi" : "gauss-seidel"}};
+    for (const auto& entry : solver_->stats())
+        stats.push_back(entry);
+    stats.push_back({"spp", std::to_string(renderer_->samplesDone())});
+    stats.push_back({"render_seconds", format(renderSeconds_)});
+    stats.push_back({"render_rays", std::to_string(renderer_->rays())});
+    stats.push_back({"dropped_samples", std::to_string(renderer_->droppedSamples())});
+    return stats;
+}
+
+}  // namespace penumbra

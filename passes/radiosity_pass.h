@@ -1,0 +1,52 @@
+// The radiosity pass: solves hierarchical radiosity for the whole scene (radiosity/), then forms
+// the image by showing, at the first opaque surface each camera ray meets, the solution's
+// interpolated radiance on the side the ray sees, emission included. No further bounce is traced:
+// specular and transmissive light is not in the image.
+//
+// Product: image layers "beauty" (light paths L D* E: emission seen directly and the diffusely
+// reflected light of every bounce, of the Lambertian layers only) and the requested AOVs.
+#pragma once
+
+#include "core/pass.h"
+#include "core/progress.h"
+#include "radiosity/radiosity_mesh.h"
+#include "radiosity/radiosity_solver.h"
+#include "raytrace/image_renderer.h"
+
+#include <chrono>
+#include <memory>
+
+namespace penumbra {
+
+class RadiosityPass : public Pass {
+  public:
+    explicit RadiosityPass(RadiositySettings settings);
+    ~RadiosityPass() override;
+
+    std::string type() const override { return "radiosity"; }
+    std::string lightPaths() const override { return "LD*E"; }
+    // Meshes the scene and solves (the long part); the image is formed by run().
+    void prepare(PassContext& context) override;
+    // Renders one sample per pixel; finished after RenderSettings::spp of them.
+    bool run(PassContext& context) override;
+    // The solver's figures (patches, elements, links, iterations, residual, seconds per stage),
+    // then those of the image.
+    PassStats stats() const override;
+
+    // Radiance (cd/m²) arriving along -ray.d at the ray's origin from the first opaque surface
+    // the mesh holds: thin glass and alpha cut-outs in front of it are passed through with their
+    // straight transmittance (Scene::straightTransmittance); zero when the ray leaves the scene.
+    Color Li(Ray ray, FirstHit* firstHit, PathCounters& counters) const;
+
+  private:
+    RadiositySettings settings_;
+    const Scene* scene_ = nullptr;
+    std::unique_ptr<RadiosityMesh> mesh_;
+    std::unique_ptr<RadiositySolver> solver_;
+    std::unique_ptr<ImageRenderer> renderer_;
+    std::unique_ptr<Progress> progress_;
+    std::chrono::steady_clock::time_point renderStart_;
+    double renderSeconds_ = 0.0;
+};
+
+}  // namespace penumbra

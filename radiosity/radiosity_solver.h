@@ -1,0 +1,215 @@
+// Hierarchical radiosity (Hanrahan, Salzman and Aupperle 1991, "A Rapid Hierarchical Radiosity
+// Algorithm", SIGGRAPH '91; "HSA91" below) on the element quadtrees of a RadiosityMesh.
+//
+// What the solution contains: for every element and each of its two sides, the radiance leaving
+// it (cd/m² per linear-sRGB channel) = its own emission Le + the diffusely reflected light of all
+// bounces, i.e. the paths L D* E ending on the element, with the direct light of the emissive
+// elements and of the punctual lights (point, spot, directional) included. Only the Lambertian
+// layer of each material takes part (rho = Bsdf::diffuseReflectance()); what the specular and
+// transmissive layers carry is left to the ray-tracing passes. Surfaces the mesh does not hold
+// (transmissive materials) are neither sources nor receivers, but block nothing either when they
+// are thin-walled: shadow rays pass through them as Scene::transmittance() says.
+//
+// Sides: both sides of every element reflect, with the same rho, as the path tracer's BSDF does
+// whatever the material's doubleSided flag (RadiosityMesh::twoSided() says a one-sided back does
+// not; the solver follows the path tracer); the back emits only for a two-sided material. Each
+// side has its own radiance.
+//
+// Equation solved, per element side i (the discrete radiosity equation of Goral, Torrance,
+// Greenberg and Battaile 1984 and HSA91, B = E + rho sum F B, divided by pi to radiance; Cohen and
+// Wallace 1993, "Radiosity and Realistic Image Synthesis", chapter 2):
+//     L_i = Le_i + rho_i (D_i + sum_j F_ij V_ij L_j)
+// with F_ij the unoccluded form factor from i to j, V_ij in [0, 1] the visible fraction and D_i the
+// direct irradiance of the punctual lights divided by pi (cd/m²), averaged over the element.
+#pragma once
+
+#include "core/math.h"
+#include "core/pass.h"
+#include "radiosity/radiosity_mesh.h"
+
+#include <algorithm>
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace penumbra {
+
+class Scene;
+
+// The parameters of the radiosity pass; their table (key, type, default, meaning) is at the top of
+// radiosity_solver.cpp.
+struct RadiositySettings {
+    enum class Iteration { GaussSeidel, Jacobi };
+
+    std::string solver = "hierarchical";  // the only one so far ("progressive" later)
+    // Refinement threshold: a link is refined while the error it makes in the receiver's radiance
+    // (RadiositySolver's oracle, radiosity_solver.cpp) exceeds epsilon times the scene's mean
+    // radiance. Dimensionless; smaller is finer and slower.
+    float epsilon = 1e-2f;
+    // Longest patch edge, metres; 0 = the scene's bounding radius (coarse patches: HSA91 links
+    // every pair of patches, so their number enters squared).
+    float patchEdgeLength = 0.0f;
+    // Smallest element area, m²; 0 = the scene's total surface area / 16384.
+    float minElementArea = 0.0f;
+    // Stop when the estimated relative error of the iteration (RadiosityIteration::errorBound) is
+    // below this.
+    double convergence = 1e-4;
+    // Shadow rays per link, between stratified points of the two elements, and direct-light
+    // samples per element; a power of 2 stratifies best.
+    int visibilitySamples = 16;
+    int maxIterations = 5000;  // gather sweeps, over all refinement rounds
+    int maxRefinements = 8;    // refinement rounds after the first solve
+    Iteration iteration = Iteration::GaussSeidel;
+
+    // The mesh settings these stand for, with the defaults resolved for `scene`.
+    MeshingSettings meshing(const Scene& scene) const;
+};
+
+// Throws UsageError naming the key ("radiosity.epsilon: expected ...") for a value out of range.
+void validateRadiositySettings(const RadiositySettings& settings);
+
+// One gather sweep, for the log and for tests of convergence.
+struct RadiosityIteration {
+    int round = 0;          // 0 = before any refinement, then one per refinement round
+    double change = 0.0;    // ||L_k - L_{k-1}|| / ||L_k||, area-weighted L1 over leaf sides
+    double errorBound = 0;  // estimated ||L_k - L*|| / ||L_k|| (infinity until it can be estimated)
+};
+
+class RadiositySolver {
+  public:
+    // The mesh is refined by solve(); both must outlive the solver.
+    RadiositySolver(const Scene& scene, RadiosityMesh& mesh, const RadiositySettings& settings);
+
+    // Direct light, initial linking, then gather sweeps alternating with refinement until nothing
+    // is refined and the iteration has converged (or maxIterations). Leaves the mesh's
+    // setElementValues() at the front side's reflected radiance.
+    void solve();
+
+    // Radiance (cd/m²) leaving the surface at barycentric b of scene triangle (mesh, triangle)
+    // on its front (or back) side: the Gouraud interpolation of the reflected part
+    // (RadiosityMesh::setElementValues) plus, if includeEmission, the element's own flat Le.
+    // Zero on a triangle the mesh does not hold.
+    Color radiance(uint32_t mesh, uint32_t triangle, Vec3 b, bool includeEmission,
+                   bool front = true) const;
+    // The element side's own (flat, not interpolated) radiance, emission included.
+    Color elementRadiance(int element, bool front = true) const { return L_[node(element, front)]; }
+
+    // For comparison: the same equation solved over all pairs of leaf sides of the current mesh
+    // with a dense matrix (Gauss-Seidel until the relative change is below 1e-9), with form
+    // factors and visibility computed as for links. Returns the radiance per node (element side,
+    // index 2 * element + (front ? 0 : 1)), zero for non-leaves. Cost O(leaves^2).
+    std::vector<Color> solveFullMatrix() const;
+
+    bool converged() const { return converged_; }
+    size_t linkCount() const;
+    const std::vector<RadiosityIteration>& iterations() const { return iterations_; }
+    // Patches, elements, leaves, links, refinement rounds, sweeps ("iterations"), the last
+    // relative change ("residual") and error bound, rays, a memory estimate, and seconds per
+    // stage: direct (the punctual lights' first shot), linking (initial links), refine (the
+    // rounds), solve (the sweeps); form_factors is the part of linking and refine spent on the
+    // form factors and visibility of new links.
+    PassStats stats() const;
+
+  private:
+    // Point values of the unoccluded form factor from points of a receiver to a source.
+    struct KernelSamples {
+        std::array<float, 3> corner;  // at the receiver's corners
+        std::array<float, 3> mid;     // at the midpoints of its edges (corner i to i + 1)
+        float centroid;               // at its centroid
+
+        float cornerMean() const { return (corner[0] + corner[1] + corner[2]) / 3.0f; }
+        float max() const {
+            return std::max({centroid, corner[0], corner[1], corner[2], mid[0], mid[1], mid[2]});
+        }
+        float spread(float limiter) const;
+    };
+    struct Link {
+        int source = -1;  // node gathered from
+        float F = 0.0f;   // unoccluded form factor from the receiver to the source (its mean)
+        Color K{0.0f};    // F times the visible fraction, per channel (thin glass tints)
+        // The transfer at a point x of the receiver is K L_source (1 + g . (x - centroid)): the
+        // linear model of F over the receiver, relative to F (1/m); zero when partly occluded.
+        Vec3 g{0.0f};
+        float spread = 0.0f;  // receiver-side error factor of the oracle (linkErrors)
+        float Fmax = 0.0f;    // largest point value of F over the receiver (sampled)
+        // Once the source has children: the shares of F that fall on each of them, so that the
+        // link gathers sum_c w_c L_c rather than the source's mean radiance; w[0] < 0 until set.
+        std::array<float, 4> w{-1.0f, 0.0f, 0.0f, 0.0f};
+    };
+    struct PendingLink {
+        int receiver, source;
+        KernelSamples samples;
+    };
+    struct LinkErrors {
+        double receiver, source;
+    };
+    // Area-weighted L1 norms of one sweep's change and of its new radiance, over leaf sides.
+    struct ChangeSums {
+        double change = 0.0, norm = 0.0;
+    };
+
+    // Nodes are element sides: node 2e is the front of element e, 2e + 1 its back. The patch
+    // sides, the roots of the trees, are nodes [0, 2 patchCount()).
+    static int node(int element, bool front) { return 2 * element + (front ? 0 : 1); }
+    static int element(int node) { return node / 2; }
+    static bool front(int node) { return node % 2 == 0; }
+    Color emission(int node) const;
+
+    void resizeArrays();
+    // Refinement (HSA91 Refine, Link, RefineLinks).
+    bool subdivisible(int element) const;
+    int children(int element);
+    void finishSplits();
+    void linkPatches();
+    void refine(int receiver, int source, const KernelSamples& samples, float spread,
+                std::vector<PendingLink>& pending);
+    LinkErrors linkErrors(int source, float spread, float Fmax) const;
+    void evaluateLinks(const std::vector<PendingLink>& pending);
+    bool refineLinks();
+    bool refineDirect();
+    double refinementThreshold() const;
+    void computeDirect(const std::vector<int>& elements);
+    // Solution (HSA91 GatherRad, PushPullRad).
+    void setSourceWeights(int receiver, Link& link) const;
+    void updateSourceWeights();
+    Color sourceRadiance(const Link& link) const;
+    void gather(int node);
+    void gatherTree(int node);
+    Color pushPull(int node, const Color& Hdown, const Mat3& Gdown, ChangeSums& sums);
+    double sweep();
+    void iterate(double threshold, int round);
+    void computeVertexValues();
+    // Form factor and visible fraction between two nodes.
+    bool mayInteract(int receiver, int source) const;
+    float formFactor(int receiver, int source) const;
+    KernelSamples kernelSamples(int receiver, int source) const;
+    Vec3 linearModel(int receiver, const KernelSamples& samples, float F, float& limiter) const;
+    Color visibility(int receiver, int source) const;
+
+    const Scene& scene_;
+    RadiosityMesh& mesh_;
+    RadiositySettings settings_;
+
+    // Per node (2 * element + side).
+    std::vector<Color> L_;  // radiance leaving, emission included
+    std::vector<Color> H_;  // gathered through the node's links, at its centroid (cd/m²)
+    std::vector<Mat3> G_;   // its gradient over the node: column k = d/dx_k of the channels
+    std::vector<float> Lmin_, Lmax_;  // range of max(L) over the node's leaves
+    std::vector<Color> D_;            // punctual direct irradiance / pi, averaged over the element
+    std::vector<float> Dspread_;      // spread of max(D) over the element's sample points
+    std::vector<std::vector<Link>> links_;  // links gathered by this node
+
+    double threshold_ = 0.0;    // the oracle's absolute threshold (radiance) of this round
+    std::vector<int> created_;  // elements split off since the last finishSplits()
+    std::vector<RadiosityIteration> iterations_;
+    bool converged_ = false;
+    int rounds_ = 0;
+    std::vector<std::vector<Color>> vertexReflected_;  // [front, back], per mesh vertex
+    uint64_t rays_ = 0;
+    size_t refinedLinks_ = 0;
+    double secondsDirect_ = 0, secondsLinking_ = 0, secondsLinks_ = 0, secondsSolve_ = 0,
+           secondsRefine_ = 0, secondsTotal_ = 0;
+};
+
+}  // namespace penumbra
