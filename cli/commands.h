@@ -12,6 +12,9 @@
 namespace penumbra::cli {
 
 using Command = std::function<void()>;
+// A command whose outcome is an exit status of its own: 0, or 1 for a failed check (`penumbra
+// diff --fail-above`), which is neither bad input nor an internal error.
+using StatusCommand = std::function<int()>;
 
 // Accepts numbers >= minimum. CLI11's PositiveNumber refuses "--spp 0" with "Value 0 not in range
 // 0.000000 to 1797693134862315708...", which names the wrong bound; this says "--spp: 0 is less
@@ -33,5 +36,7 @@ inline CLI::Validator atLeast(int minimum) {
 
 Command addRenderCommand(CLI::App& app);
 Command addInfoCommand(CLI::App& app);
+Command addBakeCommand(CLI::App& app);
+StatusCommand addDiffCommand(CLI::App& app);
 
 }  // namespace penumbra::cli

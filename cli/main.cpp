@@ -1,5 +1,5 @@
 // penumbra: command-line entry point. Exit status 0 on success, 2 on bad input or usage,
-// 1 on an internal failure (DEVELOPERS.md).
+// 1 on an internal failure (DEVELOPERS.md) or a failed `penumbra diff` check.
 #include "cli/commands.h"
 #include "core/errors.h"
 #include "core/version.h"
@@ -18,6 +18,8 @@ int main(int argc, char** argv) {
 
     penumbra::cli::Command render = penumbra::cli::addRenderCommand(app);
     penumbra::cli::Command info = penumbra::cli::addInfoCommand(app);
+    penumbra::cli::Command bake = penumbra::cli::addBakeCommand(app);
+    penumbra::cli::StatusCommand diff = penumbra::cli::addDiffCommand(app);
 
     try {
         app.parse(argc, argv);
@@ -31,6 +33,10 @@ int main(int argc, char** argv) {
             render();
         if (app.got_subcommand("info"))
             info();
+        if (app.got_subcommand("bake"))
+            bake();
+        if (app.got_subcommand("diff"))
+            return diff();
     } catch (const penumbra::InputError& e) {
         std::cerr << "penumbra: error: " << e.what() << "\n";
         return 2;

@@ -1,0 +1,114 @@
+// `penumbra bake SCENE -o lit.glb`: solves radiosity on a scene and writes the refined mesh with
+// the solution as unlit vertex colours (radiosity/bake.h), for walkthroughs in any glTF viewer.
+#include "cli/commands.h"
+#include "cli/scene_input.h"
+#include "core/errors.h"
+#include "core/gltf_writer.h"
+#include "core/progress.h"
+#include "radiosity/bake.h"
+#include "radiosity/radiosity_mesh.h"
+#include "radiosity/radiosity_solver.h"
+
+#include <tbb/global_control.h>
+#include <tbb/info.h>
+
+#include <chrono>
+#include <iostream>
+#include <optional>
+
+namespace penumbra::cli {
+
+namespace {
+
+struct BakeOptions {
+    SceneInput scene;
+    std::string output;
+    std::optional<float> exposure;  // EV; none = automatic
+    int threads = 0;
+    RadiositySettings radiosity;
+};
+
+double secondsSince(std::chrono::steady_clock::time_point start) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+void bake(const BakeOptions& options) {
+    // Refuse a bad output or setting before loading and solving.
+    checkGltfOutputPath(options.output);
+    validateRadiositySettings(options.radiosity);
+    const bool quiet = options.scene.quiet;
+
+    const auto start = std::chrono::steady_clock::now();
+    const int threads = options.threads > 0 ? options.threads : tbb::info::default_concurrency();
+    tbb::global_control parallelism(tbb::global_control::max_allowed_parallelism, threads);
+    const std::unique_ptr<Scene> scene = loadScene(options.scene);
+    RadiosityMesh mesh(*scene, options.radiosity.meshing(*scene));
+    if (mesh.patchCount() == 0) {
+        throw UsageError(options.scene.path +
+                         ": nothing to bake: the scene has no opaque triangles (transmissive "
+                         "surfaces are left to the ray tracer)");
+    }
+    if (!quiet)
+        std::cerr << "penumbra: solving radiosity on " << mesh.patchCount() << " patches\n";
+    RadiositySolver solver(*scene, mesh, options.radiosity);
+    solver.solve();
+    const double solveSeconds = secondsSince(start);
+
+    BakeResult result;
+    {
+        Progress progress("bake", mesh.leafCount(), quiet);
+        result = bakeRadiosity(*scene, mesh, options.exposure, &progress);
+    }
+    const size_t bytes = writeGltf(options.output, result.model);
+    if (quiet)
+        return;
+
+    std::cerr << "penumbra: wrote " << options.output << " (" << bytes / 1024
+              << " KiB): " << result.model.meshes.size() << " meshes, " << mesh.elementCount()
+              << " elements (" << result.leaves << " leaves), " << result.vertices << " vertices, "
+              << result.triangles << " triangles\n";
+    std::cerr << "penumbra: exposure " << result.exposure << " EV";
+    if (result.automaticExposure) {
+        std::cerr << " (automatic: " << result.exposureRadiance
+                  << " cd/m², the 99th percentile of the lit surfaces' radiance, maps to 1; "
+                     "set --exposure to change it)";
+    }
+    std::cerr << "\npenumbra: " << secondsSince(start) << " s (radiosity " << solveSeconds
+              << " s)\n";
+    for (const auto& [key, value] : solver.stats())
+        std::cerr << "  radiosity " << key << ": " << value << "\n";
+    if (!solver.converged()) {
+        std::cerr << "penumbra: warning: the radiosity iteration stopped before converging "
+                     "(max_iterations)\n";
+    }
+}
+
+}  // namespace
+
+Command addBakeCommand(CLI::App& app) {
+    auto* command = app.add_subcommand(
+        "bake",
+        "Solve radiosity and write the lit mesh as a glTF model with vertex colours "
+        "(KHR_materials_unlit) for walkthroughs in any glTF viewer");
+    auto options = std::make_shared<BakeOptions>();
+    RadiositySettings& r = options->radiosity;
+    addSceneInputOptions(*command, options->scene);
+    command->add_option("-o,--output", options->output, "Output model: .glb or .gltf")->required();
+    command->add_option("--exposure", options->exposure,
+                        "Multiply the radiance (cd/m²) by 2^EV before baking (default: "
+                        "automatic, the 99th percentile of the lit surfaces maps to 1)");
+    command->add_option("--threads", options->threads, "Worker threads (default: all cores)")
+        ->check(atLeast(0));
+    command
+        ->add_option("--epsilon", r.epsilon,
+                     "Radiosity refinement threshold relative to the mean radiance; smaller "
+                     "is finer and slower")
+        ->capture_default_str();
+    command->add_option("--patch-edge-length", r.patchEdgeLength,
+                        "Longest patch edge in metres (default 0: the scene's bounding radius)");
+    command->add_option("--min-element-area", r.minElementArea,
+                        "Smallest element in m² (default 0: total surface area / 16384)");
+    return [options] { bake(*options); };
+}
+
+}  // namespace penumbra::cli
