@@ -5,6 +5,7 @@
 #include "core/errors.h"
 #include "core/gltf_writer.h"
 #include "core/progress.h"
+#include "core/stats.h"
 #include "radiosity/bake.h"
 #include "radiosity/radiosity_mesh.h"
 #include "radiosity/radiosity_solver.h"
@@ -27,10 +28,6 @@ struct BakeOptions {
     int threads = 0;
     RadiositySettings radiosity;
 };
-
-double secondsSince(std::chrono::steady_clock::time_point start) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
 
 void bake(const BakeOptions& options) {
     // Refuse a bad output or setting before loading and solving.

@@ -1,26 +1,14 @@
 #include "passes/radiosity_pass.h"
 
 #include "core/material.h"
-
-#include <sstream>
+#include "core/stats.h"
 
 namespace penumbra {
 
 namespace {
 
-double secondsSince(std::chrono::steady_clock::time_point start) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
 // Layers of thin glass a camera ray may pass before it gives up (as Scene::transmittance()).
 constexpr int kMaxTransparentLayers = 64;
-
-std::string format(double value) {
-    std::ostringstream out;
-    out.precision(4);
-    out << value;
-    return out.str();
-}
 
 }  // namespace
 
@@ -93,10 +81,10 @@ PassStats RadiosityPass::stats() const {
     const MeshingSettings meshing = settings_.meshing(*scene_);
     PassStats stats = {
         {"solver", settings_.solver},
-        {"epsilon", format(settings_.epsilon)},
-        {"patch_edge_length", format(meshing.patchEdgeLength)},
-        {"min_element_area", format(meshing.minElementArea)},
-        {"convergence", format(settings_.convergence)},
+        {"epsilon", formatStat(settings_.epsilon)},
+        {"patch_edge_length", formatStat(meshing.patchEdgeLength)},
+        {"min_element_area", formatStat(meshing.minElementArea)},
+        {"convergence", formatStat(settings_.convergence)},
         {"visibility_samples", std::to_string(settings_.visibilitySamples)},
         {"max_iterations", std::to_string(settings_.maxIterations)},
         {"max_refinements", std::to_string(settings_.maxRefinements)},
@@ -105,7 +93,7 @@ PassStats RadiosityPass::stats() const {
     for (const auto& entry : solver_->stats())
         stats.push_back(entry);
     stats.push_back({"spp", std::to_string(renderer_->samplesDone())});
-    stats.push_back({"render_seconds", format(renderSeconds_)});
+    stats.push_back({"render_seconds", formatStat(renderSeconds_)});
     stats.push_back({"render_rays", std::to_string(renderer_->rays())});
     stats.push_back({"dropped_samples", std::to_string(renderer_->droppedSamples())});
     return stats;

@@ -21,15 +21,27 @@
 //     L_i = Le_i + rho_i (D_i + sum_j F_ij V_ij L_j)
 // with F_ij the unoccluded form factor from i to j, V_ij in [0, 1] the visible fraction and D_i the
 // direct irradiance of the punctual lights divided by pi (cd/m²), averaged over the element.
+//
+// Clustering: above RadiositySettings::clusterMinPatches patches, the patches are grouped in a
+// bounding-volume hierarchy of clusters (cluster_tree.h) and links may also join a cluster to a
+// cluster or to an element, with the isotropic cluster model of Sillion 1995 (see
+// radiosity_solver.cpp, clusterKernel): a cluster gathers one radiance that it pushes to the
+// element sides inside it (weighted to first order by their facing, sweepCluster), and shows the
+// others the area-weighted mean radiance of its sides. The model is approximate, and the oracle
+// weighs its error (flat clusters most): with clusters forced on, the closed furnace box still
+// gives Le / (1 - rho) within 1 % (tests/radiosity_test.cpp), at more links than without;
+// smaller scenes are solved without clusters.
 #pragma once
 
 #include "core/math.h"
 #include "core/pass.h"
+#include "radiosity/cluster_tree.h"
 #include "radiosity/radiosity_mesh.h"
 
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -60,6 +72,15 @@ struct RadiositySettings {
     int visibilitySamples = 16;
     int maxIterations = 5000;  // gather sweeps, over all refinement rounds
     int maxRefinements = 8;    // refinement rounds after the first solve
+    // Scenes with more patches than this start from clusters of patches (cluster_tree.h) linked
+    // from one self-link of the root instead of from links between every pair of patches; 0 =
+    // always.
+    int clusterMinPatches = 256;
+    // Adaptive subdivision after the solve: a leaf whose reflected radiance differs from a
+    // neighbouring leaf's by more than this fraction of the larger (and by more than the oracle's
+    // absolute threshold) is split, down to the smallest element area, and its links are refined
+    // onto its children; up to 4 passes, each followed by a solve. 0 = off.
+    float subdivisionThreshold = 0.0f;
     Iteration iteration = Iteration::GaussSeidel;
 
     // The mesh settings these stand for, with the defaults resolved for `scene`.
@@ -104,11 +125,12 @@ class RadiositySolver {
     bool converged() const { return converged_; }
     size_t linkCount() const;
     const std::vector<RadiosityIteration>& iterations() const { return iterations_; }
-    // Patches, elements, leaves, links, refinement rounds, sweeps ("iterations"), the last
-    // relative change ("residual") and error bound, rays, a memory estimate, and seconds per
-    // stage: direct (the punctual lights' first shot), linking (initial links), refine (the
-    // rounds), solve (the sweeps); form_factors is the part of linking and refine spent on the
-    // form factors and visibility of new links.
+    // Patches, elements, leaves, clusters (0 without clustering), links, refinement rounds, sweeps
+    // ("iterations"), the last relative change ("residual") and error bound, rays, a memory
+    // estimate, and seconds per stage: direct (the punctual lights' first shot), linking (initial
+    // links), refine (the rounds), solve (the sweeps); form_factors is the part of linking and
+    // refine spent on the form factors and visibility of new links; and the process's peak resident
+    // memory (getrusage ru_maxrss, MiB) at the end of each stage.
     PassStats stats() const;
 
   private:
@@ -130,12 +152,18 @@ class RadiositySolver {
         Color K{0.0f};    // F times the visible fraction, per channel (thin glass tints)
         // The transfer at a point x of the receiver is K L_source (1 + g . (x - centroid)): the
         // linear model of F over the receiver, relative to F (1/m); zero when partly occluded.
+        // For a receiving cluster: the unit direction towards the source.
         Vec3 g{0.0f};
         float spread = 0.0f;  // receiver-side error factor of the oracle (linkErrors)
         float Fmax = 0.0f;    // largest point value of F over the receiver (sampled)
         // Once the source has children: the shares of F that fall on each of them, so that the
         // link gathers sum_c w_c L_c rather than the source's mean radiance; w[0] < 0 until set.
         std::array<float, 4> w{-1.0f, 0.0f, 0.0f, 0.0f};
+    };
+    // A pair for the oracle; spread < 0: take the receiver-side spread from the kernel samples.
+    struct RefinePair {
+        int receiver, source;
+        float spread = -1.0f;
     };
     struct PendingLink {
         int receiver, source;
@@ -154,6 +182,26 @@ class RadiositySolver {
     static int node(int element, bool front) { return 2 * element + (front ? 0 : 1); }
     static int element(int node) { return node / 2; }
     static bool front(int node) { return node % 2 == 0; }
+    // Clusters are nodes too, with negative ids: cluster c is node -1 - c.
+    static bool isCluster(int node) { return node < 0; }
+    static int clusterNode(int cluster) { return -1 - cluster; }
+    static int cluster(int node) { return -1 - node; }
+    std::vector<Link>& linksOf(int node) {
+        return isCluster(node) ? clusterLinks_[static_cast<size_t>(cluster(node))]
+                               : links_[static_cast<size_t>(node)];
+    }
+    // Radiance of a node (a cluster's: the area-weighted mean over its element sides) and the
+    // range of max(L) over its leaves.
+    const Color& nodeRadiance(int node) const {
+        return isCluster(node) ? clusterL_[static_cast<size_t>(cluster(node))]
+                               : L_[static_cast<size_t>(node)];
+    }
+    float nodeLmin(int node) const;
+    float nodeLmax(int node) const;
+    // Bounding sphere of a node: a cluster's, or an element's about its centroid.
+    Vec3 nodeCenter(int node) const;
+    float nodeRadius(int node) const;
+    double nodeArea(int node) const;  // m²; a cluster's counts both sides of its patches
     Color emission(int node) const;
 
     void resizeArrays();
@@ -162,12 +210,26 @@ class RadiositySolver {
     int children(int element);
     void finishSplits();
     void linkPatches();
-    void refine(int receiver, int source, const KernelSamples& samples, float spread,
-                std::vector<PendingLink>& pending);
+    void linkClusters();
+    bool canSplitNode(int node) const;
+    std::vector<int> nodeChildren(int node);
+    void refineClusterPair(int receiver, int source, std::vector<RefinePair>& next,
+                           std::vector<PendingLink>& pending);
+    // The isotropic cluster kernel of a link with a cluster at one end or both (clusterKernel in
+    // radiosity_solver.cpp): its value at the centres, its largest value, the oracle's error
+    // per unit source radiance, and whether the two may be linked at all.
+    struct ClusterKernel {
+        bool linkable = false;
+        float K = 0.0f, Kmax = 0.0f, error = 0.0f;
+    };
+    ClusterKernel clusterKernel(int receiver, int source) const;
+    bool mayInteractWithCluster(int receiver, int source) const;
+    void refine(std::vector<RefinePair> batch, std::vector<PendingLink>& pending);
     LinkErrors linkErrors(int source, float spread, float Fmax) const;
     void evaluateLinks(const std::vector<PendingLink>& pending);
     bool refineLinks();
     bool refineDirect();
+    bool subdivideByContrast();
     double refinementThreshold() const;
     void computeDirect(const std::vector<int>& elements);
     // Solution (HSA91 GatherRad, PushPullRad).
@@ -176,16 +238,23 @@ class RadiositySolver {
     Color sourceRadiance(const Link& link) const;
     void gather(int node);
     void gatherTree(int node);
+    void gatherCluster(int cluster);
+    Color sweepCluster(int cluster, const Color& Hdown, const Mat3& Wdown, ChangeSums& sums,
+                       bool gatherNow);
+    void pushPullAll();
     Color pushPull(int node, const Color& Hdown, const Mat3& Gdown, ChangeSums& sums);
     double sweep();
     void iterate(double threshold, int round);
     void computeVertexValues();
     // Form factor and visible fraction between two nodes.
     bool mayInteract(int receiver, int source) const;
-    float formFactor(int receiver, int source) const;
+    // With `samples` (the pair's KernelSamples), a far pair takes a cheaper rule.
+    float formFactor(int receiver, int source, const KernelSamples* samples = nullptr) const;
     KernelSamples kernelSamples(int receiver, int source) const;
     Vec3 linearModel(int receiver, const KernelSamples& samples, float F, float& limiter) const;
-    Color visibility(int receiver, int source) const;
+    // Adds the shadow rays it casts to `rays`; `adaptive` may stop after a few that agree.
+    Color visibility(int receiver, int source, uint64_t& rays, bool adaptive) const;
+    bool smallTransfer(int source, float Fmax) const;
 
     const Scene& scene_;
     RadiosityMesh& mesh_;
@@ -200,6 +269,14 @@ class RadiositySolver {
     std::vector<float> Dspread_;      // spread of max(D) over the element's sample points
     std::vector<std::vector<Link>> links_;  // links gathered by this node
 
+    // Per cluster (empty without clustering).
+    std::unique_ptr<ClusterTree> clusters_;
+    std::vector<Color> clusterL_, clusterH_;
+    std::vector<Mat3> clusterW_;  // gathered sum K L d, column k: the channels times d_k
+    std::vector<float> clusterLmin_, clusterLmax_;
+    std::vector<std::vector<Link>> clusterLinks_;
+    float clusterMinRadius_ = 0.0f;  // metres, see clusterKernel
+
     double threshold_ = 0.0;    // the oracle's absolute threshold (radiance) of this round
     std::vector<int> created_;  // elements split off since the last finishSplits()
     std::vector<RadiosityIteration> iterations_;
@@ -210,6 +287,7 @@ class RadiositySolver {
     size_t refinedLinks_ = 0;
     double secondsDirect_ = 0, secondsLinking_ = 0, secondsLinks_ = 0, secondsSolve_ = 0,
            secondsRefine_ = 0, secondsTotal_ = 0;
+    double peakDirect_ = 0, peakLinking_ = 0, peakRefine_ = 0, peakSolve_ = 0;  // MiB
 };
 
 }  // namespace penumbra

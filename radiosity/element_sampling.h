@@ -1,0 +1,69 @@
+// Ray-traced quantities of radiosity elements that every radiosity solver needs: points on an
+// element, the visible fraction between two elements and the direct light of the punctual
+// lights. Free functions over (Scene, RadiosityMesh), so that the hierarchical and the
+// progressive solver estimate them the same way.
+//
+// Units: positions in metres; D is an irradiance divided by pi, i.e. a radiance (cd/m²), so that
+// rho D is the radiance a Lambertian element reflects.
+#pragma once
+
+#include "core/math.h"
+
+#include <array>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace penumbra {
+
+class Light;
+class RadiosityMesh;
+class Scene;
+
+// A point on an element, with what a shadow ray needs to leave it robustly.
+struct ElementSample {
+    Vec3 p, pError, n;  // n: the element's front normal
+};
+
+// The point with uniform-map coordinates u in [0, 1)^2 on the element (any element, leaf or
+// not), placed as a ray hit there would be (Scene::surfaceAt), with its error bound for robust
+// shadow rays. Uniform in area (Heitz's area-preserving map, sampleUniformTriangle).
+ElementSample sampleElement(const Scene& scene, const RadiosityMesh& mesh, int element, Vec2 u);
+
+// Stratified points on an element, out.size() of them: point k is sampleElement() at point k of
+// an Owen-scrambled (0,2)-sequence (core/sampler.h) of the sampler seeded by `seed` at "pixel"
+// `key`, so that the first 2^m points of a power-of-2 count are stratified over the element.
+// `key` names the element (and whatever else should decorrelate the set, e.g. a shot), so that
+// the points are reproducible whatever the thread or the order of the calls.
+void stratifiedElementSamples(const Scene& scene, const RadiosityMesh& mesh, int element,
+                              uint32_t seed, IVec2 key, std::span<ElementSample> out);
+
+// Visible fraction between two elements from paired points on each (a[k] with b[k], equal
+// counts, at least one): the mean transmittance of the shadow rays between them
+// (Scene::transmittance, so thin glass tints and passes light). With stratified points on both
+// elements this is the estimate of HSA91 and of Cohen and Wallace 1993, "Radiosity and Realistic
+// Image Synthesis", chapter 4: rays between jittered points of the two elements.
+Color meanTransmittance(const Scene& scene, std::span<const ElementSample> a,
+                        std::span<const ElementSample> b);
+
+// The scene's punctual (delta) lights: point, spot, directional.
+std::vector<const Light*> punctualLights(const Scene& scene);
+
+// The direct light of punctual lights on both sides of an element.
+struct PunctualDirect {
+    // Mean irradiance / pi over the element, [front, back] (cd/m²); each light counts on the side
+    // it lies on.
+    std::array<Color, 2> D{Color(0.0f), Color(0.0f)};
+    // max - min over the sample points of the largest channel of irradiance / pi, [front, back]:
+    // how much D varies over the element (a light pool's falloff, a shadow boundary).
+    std::array<float, 2> spread{0.0f, 0.0f};
+};
+
+// Samples `samples` stratified points of the element (seed `seed`, "pixel" (element, 0)) with one
+// shadow ray per light each: E = I cos(theta) T / d² for point and spot lights, E_perp cos(theta)
+// T for directional ones (pbrt-v4's direct lighting for delta lights), T the transmittance of
+// the shadow ray. Costs samples * lights.size() rays. samples >= 1.
+PunctualDirect punctualDirect(const Scene& scene, const RadiosityMesh& mesh, int element,
+                              std::span<const Light* const> lights, int samples, uint32_t seed);
+
+}  // namespace penumbra

@@ -1,0 +1,30 @@
+#include "radiosity/vertex_values.h"
+
+namespace penumbra {
+
+void SideVertexValues::compute(RadiosityMesh& mesh,
+                               const std::function<Color(int element, bool front)>& value) {
+    std::vector<Color> perElement(mesh.elementCount());
+    // The back first, so that the mesh is left with the front's values.
+    for (const bool front : {false, true}) {
+        for (size_t e = 0; e < perElement.size(); ++e)
+            perElement[e] = value(static_cast<int>(e), front);
+        mesh.setElementValues(perElement);
+        std::vector<Color>& out = values_[front ? 0 : 1];
+        out.resize(mesh.vertexCount());
+        for (size_t v = 0; v < out.size(); ++v)
+            out[v] = mesh.vertexValue(static_cast<uint32_t>(v));
+    }
+}
+
+Color SideVertexValues::interpolate(const RadiosityMesh& mesh, const ElementPoint& point,
+                                    bool front) const {
+    if (point.element < 0 || empty())
+        return Color(0.0f);
+    const auto& v = mesh.vertices(point.element);
+    const std::vector<Color>& values = values_[front ? 0 : 1];
+    return point.weights.x * values[v[0]] + point.weights.y * values[v[1]] +
+           point.weights.z * values[v[2]];
+}
+
+}  // namespace penumbra

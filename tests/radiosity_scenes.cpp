@@ -1,0 +1,62 @@
+#include "tests/radiosity_scenes.h"
+
+#include "core/gltf_loader.h"
+#include "tests/cli_runner.h"
+
+#include <cmath>
+
+namespace penumbra::test {
+
+std::unique_ptr<Scene> loadBuiltScene(const GltfBuilder& builder, const std::string& name) {
+    TempDir dir(name);
+    builder.write(dir.file("scene.gltf"));
+    return std::make_unique<Scene>(loadGltf(dir.file("scene.gltf")));
+}
+
+void addClosedBox(GltfBuilder& scene, int walls, int floor, float h) {
+    const Vec3 c[8] = {{-h, -h, -h}, {h, -h, -h}, {h, h, -h}, {-h, h, -h},
+                       {-h, -h, h},  {h, -h, h},  {h, h, h},  {-h, h, h}};
+    scene.addQuad(c[0], c[1], c[2], c[3], walls);  // z = -h, faces +z
+    scene.addQuad(c[5], c[4], c[7], c[6], walls);  // z = +h, faces -z
+    scene.addQuad(c[4], c[0], c[3], c[7], walls);  // x = -h, faces +x
+    scene.addQuad(c[1], c[5], c[6], c[2], walls);  // x = +h, faces -x
+    scene.addQuad(c[4], c[5], c[1], c[0], floor);  // y = -h, faces +y
+    scene.addQuad(c[3], c[2], c[6], c[7], walls);  // y = +h, faces -y
+}
+
+void addCeilingLight(GltfBuilder& scene, float s, float y, float Le) {
+    const int light = scene.addMaterial(
+        {.baseColor = Color(0.0f), .emissive = Color(1.0f), .emissiveStrength = Le});
+    scene.addQuad({-s, y, -s}, {s, y, -s}, {s, y, s}, {-s, y, s}, light);
+}
+
+void addFloorBlock(GltfBuilder& scene, int material) {
+    const Vec3 b[8] = {{-0.6f, -1, -0.2f},    {0.2f, -1, -0.2f},   {0.2f, -0.4f, -0.2f},
+                       {-0.6f, -0.4f, -0.2f}, {-0.6f, -1, 0.6f},   {0.2f, -1, 0.6f},
+                       {0.2f, -0.4f, 0.6f},   {-0.6f, -0.4f, 0.6f}};
+    scene.addQuad(b[1], b[0], b[3], b[2], material);  // z = -0.2, faces -z
+    scene.addQuad(b[4], b[5], b[6], b[7], material);  // z = 0.6, faces +z
+    scene.addQuad(b[0], b[4], b[7], b[3], material);  // x = -0.6, faces -x
+    scene.addQuad(b[5], b[1], b[2], b[6], material);  // x = 0.2, faces +x
+    scene.addQuad(b[3], b[7], b[6], b[2], material);  // y = -0.4, faces +y
+}
+
+void PointLightOverFloor::build(GltfBuilder& scene) const {
+    const int floor = scene.addMaterial({.baseColor = Color(rho)});
+    scene.addQuad({-half, 0, -half}, {-half, 0, half}, {half, 0, half}, {half, 0, -half}, floor);
+    scene.addLight({.type = "point", .intensity = intensity, .position = {0, height, 0}});
+}
+
+double PointLightOverFloor::reflectedPower() const {
+    // Solid angle of a rectangle 2a x 2b seen from height h above its centre:
+    // 4 atan(a b / (h sqrt(h^2 + a^2 + b^2))).
+    const double h = height, a = half;
+    const double Omega = 4.0 * std::atan(a * a / (h * std::sqrt(h * h + 2.0 * a * a)));
+    return rho * intensity * Omega / kPi;
+}
+
+bool validRadiance(const Color& L) {
+    return isFinite(L) && L.r >= 0.0f && L.g >= 0.0f && L.b >= 0.0f;
+}
+
+}  // namespace penumbra::test
