@@ -2,6 +2,7 @@
 #include "cli/commands.h"
 #include "cli/scene_input.h"
 #include "core/scene.h"
+#include "passes/pipeline.h"
 
 #include <iostream>
 #include <map>
@@ -58,6 +59,29 @@ void printInfo(const Scene& scene) {
     std::cout << "\ndegenerate triangles dropped: " << desc.report.degenerateTriangles << "\n";
 }
 
+// A pass script's settings and passes, as written; the passes are built (and so checked) first.
+void printScript(const PassScript& script) {
+    makeScriptPipeline(script);
+    std::cout << "script:     " << script.file << "\nsettings:   ";
+    std::string separator;
+    for (const auto& [key, value] : script.topLevel.entries()) {
+        if (key == "pass")
+            continue;
+        std::cout << separator << key << " = " << value;
+        separator = ", ";
+    }
+    std::cout << "\npasses:     " << script.passes.size() << "\n";
+    for (const ScriptPass& pass : script.passes) {
+        std::cout << "  " << pass.parameters.path() << " (line " << pass.parameters.location().line
+                  << "): " << pass.type;
+        for (const auto& [key, value] : pass.parameters.entries()) {
+            if (key != "type")
+                std::cout << ", " << key << " = " << value;
+        }
+        std::cout << "\n";
+    }
+}
+
 }  // namespace
 
 Command addInfoCommand(CLI::App& app) {
@@ -66,7 +90,11 @@ Command addInfoCommand(CLI::App& app) {
                                        "materials, lights by type, bounds, extensions");
     auto options = std::make_shared<SceneInput>();
     addSceneInputOptions(*command, *options);
-    return [options] { printInfo(*loadScene(*options)); };
+    return [options] {
+        if (const std::optional<PassScript> script = readPassScript(*options))
+            printScript(*script);
+        printInfo(*loadScene(*options));
+    };
 }
 
 }  // namespace penumbra::cli

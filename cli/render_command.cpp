@@ -14,6 +14,7 @@
 
 #include <chrono>
 #include <iostream>
+#include <optional>
 #include <sstream>
 
 namespace penumbra::cli {
@@ -21,6 +22,7 @@ namespace penumbra::cli {
 namespace {
 
 struct RenderOptions {
+    CLI::App* command = nullptr;  // to tell options given from defaults
     SceneInput scene;
     std::vector<std::string> outputs;
     std::string pipeline = "reference";
@@ -41,9 +43,53 @@ std::vector<std::string> splitList(const std::string& list) {
     return items;
 }
 
+// Takes the script's values for what the command line does not give: options given on the
+// command line win (docs/pass-scripts.md, "Precedence").
+void applyScript(const PassScript& script, RenderOptions& options) {
+    const auto given = [&options](const std::string& name) {
+        return options.command->count(name) > 0;
+    };
+    if (given("--pipeline")) {
+        throw UsageError("--pipeline cannot be combined with a pass script (" + script.file +
+                         "): the script's [[pass]] tables are the pipeline");
+    }
+    RenderSettings& s = options.settings;
+    if (!given("--camera") && script.camera)
+        s.camera = *script.camera;
+    // The image size is one setting: --width or --height replaces both of the script's values.
+    if (!given("--width") && !given("--height")) {
+        s.width = script.width.value_or(0);
+        s.height = script.height.value_or(0);
+    }
+    if (!given("--spp") && script.spp)
+        s.spp = *script.spp;
+    if (!given("--seed") && script.seed)
+        s.seed = *script.seed;
+    if (options.outputs.empty())
+        options.outputs = script.outputs;
+}
+
+// The scene's camera; a bad camera name from a script is reported at its place in the script.
+CameraDesc scriptCamera(const Scene& scene, const RenderOptions& options,
+                        const std::optional<PassScript>& script) {
+    try {
+        return chooseCamera(scene.description().cameras, options.settings.camera, scene.bounds());
+    } catch (const UsageError& e) {
+        if (!script || options.command->count("--camera") > 0)
+            throw;
+        const std::string message = e.what();
+        throw script->topLevel.error("camera", message.substr(message.find(": ") + 2));
+    }
+}
+
 void render(RenderOptions& options) {
     RenderSettings& settings = options.settings;
     settings.quiet = options.scene.quiet;
+    const std::optional<PassScript> script = readPassScript(options.scene);
+    if (script)
+        applyScript(*script, options);
+    if (options.outputs.empty())
+        throw UsageError("--output is required (a pass script may give `output` instead)");
     settings.aovs = splitList(options.aovList);
     // Refuse bad outputs and option values before spending time on loading and rendering.
     for (const std::string& output : options.outputs)
@@ -51,16 +97,19 @@ void render(RenderOptions& options) {
     const ToneMapping toneMapping{options.exposure, parseToneMapOperator(options.tonemap)};
     parseFilter(settings.filter);
     aovSpecs(settings.aovs);
+    PassOverrides overrides;
+    if (options.command->count("--max-depth") > 0)
+        overrides.maxDepth = settings.maxDepth;
+    Pipeline pipeline = script ? makeScriptPipeline(*script, overrides)
+                               : makePipelinePreset(options.pipeline, settings);
 
     const auto start = std::chrono::steady_clock::now();
     const std::unique_ptr<Scene> scene = loadScene(options.scene);
-    const CameraDesc cameraDesc =
-        chooseCamera(scene->description().cameras, settings.camera, scene->bounds());
+    const CameraDesc cameraDesc = scriptCamera(*scene, options, script);
     const IVec2 size = chooseImageSize(cameraDesc, settings.width, settings.height);
     settings.width = size.x;
     settings.height = size.y;
     const Camera camera(cameraDesc, size.x, size.y);
-    Pipeline pipeline = makePipelinePreset(options.pipeline, settings);
 
     const int threads = settings.threads > 0 ? settings.threads : tbb::info::default_concurrency();
     tbb::global_control parallelism(tbb::global_control::max_allowed_parallelism, threads);
@@ -77,7 +126,11 @@ void render(RenderOptions& options) {
     metadata.set("penumbra:scene", options.scene.path);
     metadata.set("penumbra:camera", cameraDesc.name);
     metadata.set("penumbra:filter", settings.filter);
-    metadata.set("penumbra:max_depth", settings.maxDepth);
+    // A script's passes record their own depth (penumbra:path.max_depth).
+    if (script)
+        metadata.set("penumbra:script", script->file);
+    else
+        metadata.set("penumbra:max_depth", settings.maxDepth);
     for (const auto& pass : pipeline.passes()) {
         for (const auto& [key, value] : pass->stats()) {
             metadata.set("penumbra:" + pass->type() + "." + key, value);
@@ -112,18 +165,21 @@ Command addRenderCommand(CLI::App& app) {
                                        "Render a scene to an image (.exr linear, "
                                        ".png tone-mapped sRGB)");
     auto options = std::make_shared<RenderOptions>();
+    options->command = command;
     RenderSettings& s = options->settings;
     addSceneInputOptions(*command, options->scene);
     command
         ->add_option("-o,--output", options->outputs,
                      "Output image; the extension picks the format (.exr linear float, .png "
-                     "tone-mapped sRGB, ...); repeat to write several")
-        ->required()
+                     "tone-mapped sRGB, ...); repeat to write several. Required unless a pass "
+                     "script gives `output`")
         ->take_all();
     std::string pipelines;
     for (const std::string& name : pipelinePresetNames())
         pipelines += " " + name;
-    command->add_option("--pipeline", options->pipeline, "Pipeline preset:" + pipelines)
+    command
+        ->add_option("--pipeline", options->pipeline,
+                     "Pipeline preset (not with a .toml pass script):" + pipelines)
         ->capture_default_str();
     command->add_option("--spp", s.spp, "Samples per pixel (the target with --time-limit)")
         ->check(atLeast(1))

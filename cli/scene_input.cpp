@@ -10,7 +10,8 @@
 namespace penumbra::cli {
 
 void addSceneInputOptions(CLI::App& command, SceneInput& input) {
-    command.add_option("scene", input.path, "Scene file: .gltf or .glb")->required();
+    command.add_option("scene", input.path, "Scene file: .gltf or .glb, or a .toml pass script")
+        ->required();
     command
         .add_option("--scene-index", input.sceneIndex,
                     "Which of the file's glTF scenes to use (default: the file's `scene`)")
@@ -18,15 +19,26 @@ void addSceneInputOptions(CLI::App& command, SceneInput& input) {
     command.add_flag("-q,--quiet", input.quiet, "Print nothing but errors");
 }
 
+std::optional<PassScript> readPassScript(SceneInput& input) {
+    if (std::filesystem::path(input.path).extension() != ".toml")
+        return std::nullopt;
+    PassScript script = loadPassScript(input.path);
+    input.path = script.scene;
+    if (input.sceneIndex < 0 && script.sceneIndex)
+        input.sceneIndex = *script.sceneIndex;
+    return script;
+}
+
 std::unique_ptr<Scene> loadScene(const SceneInput& input) {
     const std::string extension = std::filesystem::path(input.path).extension().string();
+    // render and info read a pass script first (readPassScript); other commands take glTF only.
     if (extension == ".toml") {
         throw UsageError(input.path +
-                         ": pass scripts (.toml) are not supported yet; give a .gltf or .glb");
+                         ": pass scripts are for `render` and `info`; give a .gltf or .glb");
     }
     if (extension != ".gltf" && extension != ".glb") {
         throw UsageError(input.path + ": unknown scene format '" + extension +
-                         "'; expected .gltf or .glb");
+                         "'; expected .gltf or .glb (render and info: or a .toml pass script)");
     }
     SceneDescription description = loadGltf(input.path, input.sceneIndex);
     if (!input.quiet) {

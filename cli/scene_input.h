@@ -2,10 +2,12 @@
 #pragma once
 
 #include "core/scene.h"
+#include "passes/pass_script.h"
 
 #include <CLI/CLI.hpp>
 
 #include <memory>
+#include <optional>
 #include <string>
 
 namespace penumbra::cli {
@@ -18,8 +20,13 @@ struct SceneInput {
 
 void addSceneInputOptions(CLI::App& command, SceneInput& input);
 
-// Loads the glTF file (or the scene of a pass script), prints the loader's warnings to stderr
-// unless quiet, and builds the scene. Throws SceneError on bad input.
+// When SCENE is a pass script (.toml), reads it (loadPassScript) and points `input` at the
+// script's glTF scene, with the script's scene_index unless --scene-index was given. Nothing for
+// a glTF file. Call it before loadScene().
+std::optional<PassScript> readPassScript(SceneInput& input);
+
+// Loads the glTF file (after readPassScript, the scene of a pass script), prints the loader's
+// warnings to stderr unless quiet, and builds the scene. Throws SceneError on bad input.
 std::unique_ptr<Scene> loadScene(const SceneInput& input);
 
 }  // namespace penumbra::cli

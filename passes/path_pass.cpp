@@ -1,16 +1,10 @@
 #include "passes/path_pass.h"
 
+#include "core/stats.h"
+
 #include <sstream>
 
 namespace penumbra {
-
-namespace {
-
-double secondsSince(std::chrono::steady_clock::time_point start) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
-}  // namespace
 
 void PathPass::prepare(PassContext& context) {
     tracer_ = std::make_unique<PathTracer>(context.scene, settings_);
@@ -64,7 +58,8 @@ PassStats PathPass::stats() const {
     std::ostringstream raysPerSecond;
     raysPerSecond.precision(4);
     raysPerSecond << static_cast<double>(renderer_->rays()) / seconds;
-    return {{"spp", std::to_string(renderer_->samplesDone())},
+    return {{"max_depth", std::to_string(settings_.maxDepth)},
+            {"spp", std::to_string(renderer_->samplesDone())},
             {"seconds", std::to_string(seconds_)},
             {"rays", std::to_string(renderer_->rays())},
             {"rays_per_second", raysPerSecond.str()},

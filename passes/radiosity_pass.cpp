@@ -13,16 +13,30 @@ constexpr int kMaxTransparentLayers = 64;
 }  // namespace
 
 RadiosityPass::RadiosityPass(RadiositySettings settings) : settings_(std::move(settings)) {
-    validateRadiositySettings(settings_);
+    validateRadiositySettings(std::get<RadiositySettings>(settings_));
+}
+
+RadiosityPass::RadiosityPass(ProgressiveSettings settings) : settings_(settings) {
+    validateProgressiveSettings(settings);
 }
 
 RadiosityPass::~RadiosityPass() = default;
 
 void RadiosityPass::prepare(PassContext& context) {
     scene_ = &context.scene;
-    mesh_ = std::make_unique<RadiosityMesh>(context.scene, settings_.meshing(context.scene));
-    solver_ = std::make_unique<RadiositySolver>(context.scene, *mesh_, settings_);
-    solver_->solve();
+    if (const auto* hierarchical = std::get_if<RadiositySettings>(&settings_)) {
+        mesh_ =
+            std::make_unique<RadiosityMesh>(context.scene, hierarchical->meshing(context.scene));
+        auto solver = std::make_unique<RadiositySolver>(context.scene, *mesh_, *hierarchical);
+        solver->solve();
+        solution_ = std::move(solver);
+    } else {
+        const auto& progressive = std::get<ProgressiveSettings>(settings_);
+        mesh_ = std::make_unique<RadiosityMesh>(context.scene, progressive.meshing(context.scene));
+        auto solver = std::make_unique<ProgressiveSolver>(context.scene, *mesh_, progressive);
+        solver->solve();
+        solution_ = std::move(solver);
+    }
     renderer_ = std::make_unique<ImageRenderer>(
         context.camera, context.settings,
         [this](const Ray& ray, Sampler&, FirstHit* firstHit, PathCounters& counters) {
@@ -51,7 +65,7 @@ Color RadiosityPass::Li(Ray ray, FirstHit* firstHit, PathCounters& counters) con
                 firstHit->depth = glm::distance(hit->p, cameraOrigin);
             }
             return beta *
-                   solver_->radiance(hit->mesh, hit->triangle, hit->barycentric, true, front);
+                   solution_->radiance(hit->mesh, hit->triangle, hit->barycentric, true, front);
         }
         // A surface the mesh does not hold (transmissive): only thin glass lets light through.
         beta *= scene_->straightTransmittance(*hit, scene_->bsdf(*hit), -ray.d);
@@ -78,19 +92,34 @@ bool RadiosityPass::run(PassContext& context) {
 
 PassStats RadiosityPass::stats() const {
     // The resolved settings first, so that every image says how it was made (STYLE.md).
-    const MeshingSettings meshing = settings_.meshing(*scene_);
-    PassStats stats = {
-        {"solver", settings_.solver},
-        {"epsilon", formatStat(settings_.epsilon)},
-        {"patch_edge_length", formatStat(meshing.patchEdgeLength)},
-        {"min_element_area", formatStat(meshing.minElementArea)},
-        {"convergence", formatStat(settings_.convergence)},
-        {"visibility_samples", std::to_string(settings_.visibilitySamples)},
-        {"max_iterations", std::to_string(settings_.maxIterations)},
-        {"max_refinements", std::to_string(settings_.maxRefinements)},
-        {"iteration",
-         settings_.iteration == RadiositySettings::Iteration::Jacobi ? "jacobi" : "gauss-seidel"}};
-    for (const auto& entry : solver_->stats())
+    PassStats stats;
+    if (const auto* h = std::get_if<RadiositySettings>(&settings_)) {
+        const MeshingSettings meshing = h->meshing(*scene_);
+        stats = {{"solver", h->solver},
+                 {"epsilon", formatStat(h->epsilon)},
+                 {"patch_edge_length", formatStat(meshing.patchEdgeLength)},
+                 {"min_element_area", formatStat(meshing.minElementArea)},
+                 {"convergence", formatStat(h->convergence)},
+                 {"visibility_samples", std::to_string(h->visibilitySamples)},
+                 {"max_iterations", std::to_string(h->maxIterations)},
+                 {"max_refinements", std::to_string(h->maxRefinements)},
+                 {"iteration",
+                  h->iteration == RadiositySettings::Iteration::Jacobi ? "jacobi" : "gauss-seidel"},
+                 {"cluster_min_patches", std::to_string(h->clusterMinPatches)},
+                 {"subdivision_threshold", formatStat(h->subdivisionThreshold)}};
+    } else {
+        const auto& p = std::get<ProgressiveSettings>(settings_);
+        const MeshingSettings meshing = p.meshing(*scene_);
+        stats = {{"solver", "progressive"},
+                 {"patch_edge_length", formatStat(meshing.patchEdgeLength)},
+                 {"element_area", formatStat(p.elementArea)},
+                 {"threshold", formatStat(p.threshold)},
+                 {"max_shots", std::to_string(p.maxShots)},
+                 {"visibility_samples", std::to_string(p.visibilitySamples)},
+                 {"adaptive_visibility", p.adaptiveVisibility ? "true" : "false"},
+                 {"ambient", p.ambient ? "true" : "false"}};
+    }
+    for (const auto& entry : solution_->stats())
         stats.push_back(entry);
     stats.push_back({"spp", std::to_string(renderer_->samplesDone())});
     stats.push_back({"render_seconds", formatStat(renderSeconds_)});

@@ -1,4 +1,5 @@
-// The radiosity pass: solves hierarchical radiosity for the whole scene (radiosity/), then forms
+// The radiosity pass: solves radiosity for the whole scene (radiosity/: hierarchical, the default,
+// or progressive refinement, by the settings given), then forms
 // the image by showing, at the first opaque surface each camera ray meets, the solution's
 // interpolated radiance on the side the ray sees, emission included. No further bounce is traced:
 // specular and transmissive light is not in the image.
@@ -9,18 +10,22 @@
 
 #include "core/pass.h"
 #include "core/progress.h"
+#include "radiosity/progressive_solver.h"
 #include "radiosity/radiosity_mesh.h"
 #include "radiosity/radiosity_solver.h"
 #include "raytrace/image_renderer.h"
 
 #include <chrono>
 #include <memory>
+#include <variant>
 
 namespace penumbra {
 
 class RadiosityPass : public Pass {
   public:
+    // The settings are validated here (UsageError naming the key).
     explicit RadiosityPass(RadiositySettings settings);
+    explicit RadiosityPass(ProgressiveSettings settings);
     ~RadiosityPass() override;
 
     std::string type() const override { return "radiosity"; }
@@ -39,10 +44,10 @@ class RadiosityPass : public Pass {
     Color Li(Ray ray, FirstHit* firstHit, PathCounters& counters) const;
 
   private:
-    RadiositySettings settings_;
+    std::variant<RadiositySettings, ProgressiveSettings> settings_;
     const Scene* scene_ = nullptr;
     std::unique_ptr<RadiosityMesh> mesh_;
-    std::unique_ptr<RadiositySolver> solver_;
+    std::unique_ptr<RadiositySolution> solution_;
     std::unique_ptr<ImageRenderer> renderer_;
     std::unique_ptr<Progress> progress_;
     std::chrono::steady_clock::time_point renderStart_;

@@ -1,10 +1,13 @@
-// The registry of built-in pipelines: name -> the passes it runs. Adding a preset touches this
-// file, the pass's own files and a test.
+// The registries of passes: built-in pipelines (name -> the passes it runs) and pass types of
+// scripts (name -> the constructor from a [[pass]] table). Adding a preset or a pass type touches
+// this file, the pass's own files and a test.
 #include "core/errors.h"
 #include "passes/path_pass.h"
 #include "passes/pipeline.h"
 #include "passes/radiosity_pass.h"
 
+#include <algorithm>
+#include <filesystem>
 #include <functional>
 #include <utility>
 
@@ -32,7 +35,153 @@ const std::vector<std::pair<std::string, PresetFactory>>& presets() {
     return table;
 }
 
+// Largest max_depth accepted, as --max-depth.
+constexpr int kMaxDepthLimit = 1 << 20;
+
+// A settings check's UsageError "PREFIXkey: what" moved to the key's place in the script (or the
+// table's, for a key the script does not give).
+ScriptError atKey(const ScriptTable& table, const std::string& prefix, const UsageError& e) {
+    const std::string message = e.what();
+    const size_t colon = message.find(": ");
+    if (message.rfind(prefix, 0) != 0 || colon == std::string::npos)
+        return table.error("", message);
+    return table.error(message.substr(prefix.size(), colon - prefix.size()),
+                       message.substr(colon + 2));
+}
+
+// The radiosity pass. `solver` picks the method and so the keys that are valid: those of
+// RadiositySettings for "hierarchical" (the table at the top of radiosity/radiosity_solver.cpp),
+// those of ProgressiveSettings for "progressive" (radiosity/progressive_solver.cpp); each set is
+// checked by its validate function, the same rules as for any other caller, and a key of the other
+// solver is refused as unknown.
+std::unique_ptr<Pass> hierarchicalRadiosityPass(const ScriptTable& p) {
+    RadiositySettings s;
+    s.epsilon = p.get("epsilon", s.epsilon);
+    s.patchEdgeLength = p.get("patch_edge_length", s.patchEdgeLength);
+    s.minElementArea = p.get("min_element_area", s.minElementArea);
+    s.convergence = p.get("convergence", s.convergence);
+    s.visibilitySamples = p.get("visibility_samples", s.visibilitySamples);
+    s.maxIterations = p.get("max_iterations", s.maxIterations);
+    s.maxRefinements = p.get("max_refinements", s.maxRefinements);
+    s.clusterMinPatches = p.get("cluster_min_patches", s.clusterMinPatches);
+    s.subdivisionThreshold = p.get("subdivision_threshold", s.subdivisionThreshold);
+    const std::string iteration = p.get<std::string>("iteration", "gauss-seidel");
+    if (iteration == "jacobi") {
+        s.iteration = RadiositySettings::Iteration::Jacobi;
+    } else if (iteration != "gauss-seidel") {
+        throw p.error("iteration",
+                      "unknown iteration '" + iteration + "'; valid: gauss-seidel, jacobi");
+    }
+    try {
+        validateRadiositySettings(s);
+    } catch (const UsageError& e) {
+        throw atKey(p, "radiosity.", e);
+    }
+    return std::make_unique<RadiosityPass>(s);
+}
+
+std::unique_ptr<Pass> progressiveRadiosityPass(const ScriptTable& p) {
+    ProgressiveSettings s;
+    s.patchEdgeLength = p.get("patch_edge_length", s.patchEdgeLength);
+    s.elementArea = p.get("element_area", s.elementArea);
+    s.threshold = p.get("threshold", s.threshold);
+    s.maxShots = p.get("max_shots", s.maxShots);
+    s.visibilitySamples = p.get("visibility_samples", s.visibilitySamples);
+    s.adaptiveVisibility = p.get("adaptive_visibility", s.adaptiveVisibility);
+    s.ambient = p.get("ambient", s.ambient);
+    try {
+        validateProgressiveSettings(s);
+    } catch (const UsageError& e) {
+        throw atKey(p, "radiosity.", e);
+    }
+    return std::make_unique<RadiosityPass>(s);
+}
+
+std::unique_ptr<Pass> radiosityPass(const ScriptTable& p, const PassOverrides&) {
+    const std::string solver = p.get<std::string>("solver", "hierarchical");
+    if (solver == "hierarchical")
+        return hierarchicalRadiosityPass(p);
+    if (solver == "progressive")
+        return progressiveRadiosityPass(p);
+    throw p.error("solver", "unknown solver '" + solver + "'; valid: hierarchical, progressive");
+}
+
+// The path-tracing pass (the `reference` pipeline's).
+std::unique_ptr<Pass> pathPass(const ScriptTable& p, const PassOverrides& overrides) {
+    const int maxDepth = p.get("max_depth", -1, -1, kMaxDepthLimit);
+    return std::make_unique<PathPass>(PathTracerSettings{overrides.maxDepth.value_or(maxDepth)});
+}
+
+using PassFactory =
+    std::function<std::unique_ptr<Pass>(const ScriptTable& parameters, const PassOverrides&)>;
+
+const std::vector<std::pair<std::string, PassFactory>>& passTypes() {
+    static const std::vector<std::pair<std::string, PassFactory>> table = {
+        {"radiosity", radiosityPass},
+        {"path", pathPass},
+    };
+    return table;
+}
+
+// Pass types of the hybrid pipeline that do not exist yet: named in messages as such rather than
+// as unknown words.
+const std::vector<std::string> kPlannedPassTypes = {"distribution", "caustics", "composite"};
+
+std::string joined(const std::vector<std::string>& names) {
+    std::string text;
+    for (const std::string& name : names)
+        text += (text.empty() ? "" : ", ") + name;
+    return text;
+}
+
+// The pass of one [[pass]] table, its parameters read and the unread ones refused.
+std::unique_ptr<Pass> makeScriptPass(const ScriptPass& entry, const PassOverrides& overrides) {
+    const ScriptTable& parameters = entry.parameters;
+    const std::string valid = joined(passTypeNames());
+    if (entry.type.empty())
+        throw parameters.error("type", "missing; valid pass types: " + valid);
+    for (const auto& [type, factory] : passTypes()) {
+        if (type == entry.type) {
+            std::unique_ptr<Pass> pass = factory(parameters, overrides);
+            parameters.reportUnused();
+            return pass;
+        }
+    }
+    const bool planned = std::find(kPlannedPassTypes.begin(), kPlannedPassTypes.end(),
+                                   entry.type) != kPlannedPassTypes.end();
+    throw parameters.error(
+        "type", planned
+                    ? "pass type '" + entry.type + "' is not implemented yet; implemented: " + valid
+                    : "unknown pass type '" + entry.type + "'; valid: " + valid +
+                          " (planned: " + joined(kPlannedPassTypes) + ")");
+}
+
 }  // namespace
+
+std::vector<std::string> passTypeNames() {
+    std::vector<std::string> names;
+    for (const auto& [name, factory] : passTypes())
+        names.push_back(name);
+    return names;
+}
+
+Pipeline makeScriptPipeline(const PassScript& script, const PassOverrides& overrides) {
+    std::vector<std::unique_ptr<Pass>> passes;
+    for (const ScriptPass& entry : script.passes) {
+        std::unique_ptr<Pass> pass = makeScriptPass(entry, overrides);
+        // Every pass forms the whole image; without the composite pass to combine them, a second
+        // one would only overwrite the first's.
+        if (!passes.empty()) {
+            throw entry.parameters.error(
+                "", "a second pass: until the composite pass exists, a script holds one pass (" +
+                        script.passes.front().parameters.path() + " at line " +
+                        std::to_string(script.passes.front().parameters.location().line) +
+                        " already forms the image)");
+        }
+        passes.push_back(std::move(pass));
+    }
+    return Pipeline(std::filesystem::path(script.file).filename().string(), std::move(passes));
+}
 
 std::vector<std::string> pipelinePresetNames() {
     std::vector<std::string> names;

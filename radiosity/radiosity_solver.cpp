@@ -3,7 +3,8 @@
 //
 // Parameters of the radiosity pass (RadiositySettings):
 //   key                 type    default         meaning
-//   solver              string  "hierarchical"  solution method (only "hierarchical" so far)
+//   solver              string  "hierarchical"  solution method ("progressive": see
+//                                               progressive_solver.cpp for its own keys)
 //   epsilon             float   0.01            refinement threshold: largest error a link may
 //                                               make, relative to the scene's mean radiance
 //   patch_edge_length   float   0               longest patch edge in m (0 = bounding radius)

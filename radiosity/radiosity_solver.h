@@ -37,6 +37,7 @@
 #include "core/pass.h"
 #include "radiosity/cluster_tree.h"
 #include "radiosity/radiosity_mesh.h"
+#include "radiosity/radiosity_solution.h"
 
 #include <algorithm>
 #include <array>
@@ -54,7 +55,9 @@ class Scene;
 struct RadiositySettings {
     enum class Iteration { GaussSeidel, Jacobi };
 
-    std::string solver = "hierarchical";  // the only one so far ("progressive" later)
+    // Always "hierarchical" here; the radiosity pass also offers "progressive", whose settings
+    // are ProgressiveSettings (progressive_solver.h).
+    std::string solver = "hierarchical";
     // Refinement threshold: a link is refined while the error it makes in the receiver's radiance
     // (RadiositySolver's oracle, radiosity_solver.cpp) exceeds epsilon times the scene's mean
     // radiance. Dimensionless; smaller is finer and slower.
@@ -97,7 +100,7 @@ struct RadiosityIteration {
     double errorBound = 0;  // estimated ||L_k - L*|| / ||L_k|| (infinity until it can be estimated)
 };
 
-class RadiositySolver {
+class RadiositySolver : public RadiositySolution {
   public:
     // The mesh is refined by solve(); both must outlive the solver.
     RadiositySolver(const Scene& scene, RadiosityMesh& mesh, const RadiositySettings& settings);
@@ -112,7 +115,7 @@ class RadiositySolver {
     // (RadiosityMesh::setElementValues) plus, if includeEmission, the element's own flat Le.
     // Zero on a triangle the mesh does not hold.
     Color radiance(uint32_t mesh, uint32_t triangle, Vec3 b, bool includeEmission,
-                   bool front = true) const;
+                   bool front = true) const override;
     // The element side's own (flat, not interpolated) radiance, emission included.
     Color elementRadiance(int element, bool front = true) const { return L_[node(element, front)]; }
 
@@ -131,7 +134,7 @@ class RadiositySolver {
     // links), refine (the rounds), solve (the sweeps); form_factors is the part of linking and
     // refine spent on the form factors and visibility of new links; and the process's peak resident
     // memory (getrusage ru_maxrss, MiB) at the end of each stage.
-    PassStats stats() const;
+    PassStats stats() const override;
 
   private:
     // Point values of the unoccluded form factor from points of a receiver to a source.

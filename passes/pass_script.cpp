@@ -1,0 +1,445 @@
+// Reading pass scripts with toml++ (the only file that includes it, STYLE.md §1).
+//
+// Top-level keys of a script (docs/pass-scripts.md has the full table):
+//   key          type                      default            meaning
+//   scene        string                    required           glTF file, relative to the script
+//   scene_index  int >= 0                  the file's scene   glTF `scenes` index
+//   camera       string                    the first camera   glTF camera by name
+//   width        int >= 1                  from the camera    image width, pixels
+//   height       int >= 1                  from the camera    image height, pixels
+//   spp          int >= 1                  64                 samples per pixel
+//   seed         int in [0, 2^32 - 1]      0                  random seed
+//   output       string or array of them   none (-o)          images, relative to the script
+//   pass         array of tables           required           the passes, in order
+#include "passes/pass_script.h"
+
+#include "core/image_io.h"
+
+#include <toml++/toml.h>
+
+#include <algorithm>
+#include <charconv>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <sstream>
+#include <type_traits>
+
+namespace penumbra {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// The script's name and text, to quote the offending line in messages.
+struct ScriptSource {
+    std::string file;
+    std::vector<std::string> lines;
+};
+
+ScriptLocation locationOf(const toml::source_region& region) {
+    return {static_cast<int>(std::max<toml::source_index>(region.begin.line, 1)),
+            static_cast<int>(std::max<toml::source_index>(region.begin.column, 1))};
+}
+
+bool before(const ScriptLocation& a, const ScriptLocation& b) {
+    return a.line != b.line ? a.line < b.line : a.column < b.column;
+}
+
+// A line of spaces (tabs kept, so that the caret lines up under tabs too) ending in a caret
+// under code point `column` (1-based) of `text`.
+std::string caretLine(const std::string& text, int column) {
+    std::string caret;
+    int codePoint = 1;
+    for (const char c : text) {
+        if (codePoint >= column)
+            break;
+        // Continuation bytes of UTF-8 (10xxxxxx) belong to the code point before them.
+        if ((static_cast<unsigned char>(c) & 0xC0) == 0x80)
+            continue;
+        caret += c == '\t' ? '\t' : ' ';
+        ++codePoint;
+    }
+    caret.append(static_cast<size_t>(std::max(column - codePoint, 0)), ' ');
+    return caret + "^";
+}
+
+ScriptError errorAt(const ScriptSource& source, ScriptLocation at, const std::string& keyPath,
+                    const std::string& message) {
+    std::string what = (keyPath.empty() ? "" : keyPath + ": ") + message;
+    if (at.line >= 1 && static_cast<size_t>(at.line) <= source.lines.size()) {
+        const std::string& text = source.lines[static_cast<size_t>(at.line) - 1];
+        what += "\n    " + text + "\n    " + caretLine(text, at.column);
+    }
+    return ScriptError(source.file, at.line, at.column, what);
+}
+
+// A value for messages, as TOML would write it: strings in double quotes, numbers in their
+// shortest round-trip form (0.05, not toml++'s 0.050000000000000003), arrays element by element.
+std::string describe(const toml::node& node) {
+    if (node.is_table())
+        return "a table";
+    if (const auto* array = node.as_array()) {
+        std::string text;
+        for (const toml::node& element : *array)
+            text += (text.empty() ? "" : ", ") + describe(element);
+        return "[" + text + "]";
+    }
+    if (const auto* string = node.as_string()) {
+        std::string text;
+        for (const char c : string->get())
+            text += c == '"' || c == '\\' ? std::string("\\") + c : std::string(1, c);
+        return "\"" + text + "\"";
+    }
+    if (const auto* floating = node.as_floating_point()) {
+        char buffer[32];
+        const auto end = std::to_chars(buffer, buffer + sizeof buffer, floating->get()).ptr;
+        return std::string(buffer, end);
+    }
+    std::ostringstream out;
+    node.visit([&out](const auto& value) {
+        if constexpr (toml::is_value<decltype(value)>)
+            out << value;
+    });
+    return out.str();
+}
+
+template <typename T>
+std::string noun() {
+    if constexpr (std::is_same_v<T, bool>)
+        return "a boolean (true or false)";
+    else if constexpr (std::is_integral_v<T>)
+        return "an integer";
+    else if constexpr (std::is_floating_point_v<T>)
+        return "a number";
+    else
+        return "a string";
+}
+
+template <typename T>
+std::string number(T value) {
+    std::ostringstream out;
+    out << value;
+    return out.str();
+}
+
+// " in [a, b]", " >= a" or " <= b": a bound at the type's limit is no bound to the user, unless
+// `value` breaks it.
+template <typename T, typename V>
+std::string rangeText(T minimum, T maximum, V value) {
+    const bool low = minimum > std::numeric_limits<T>::lowest() || value < minimum;
+    const bool high = maximum < std::numeric_limits<T>::max() || value > maximum;
+    if (low && high)
+        return " in [" + number(minimum) + ", " + number(maximum) + "]";
+    return low ? " >= " + number(minimum) : high ? " <= " + number(maximum) : "";
+}
+
+std::string joined(const std::vector<std::string>& items) {
+    std::string text;
+    for (const std::string& item : items)
+        text += (text.empty() ? "" : ", ") + item;
+    return text;
+}
+
+}  // namespace
+
+struct ScriptTable::Impl {
+    std::shared_ptr<const ScriptSource> source;
+    std::shared_ptr<const toml::table> root;  // keeps the document `table` points into alive
+    const toml::table* table = nullptr;
+    std::string path;
+    ScriptLocation where;
+    mutable std::vector<std::string> read;  // keys asked for, in order, without repeats
+
+    std::string keyPath(const std::string& key) const {
+        return path.empty() ? key : key.empty() ? path : path + "." + key;
+    }
+    // The key's node, or null; records the key as read either way.
+    const toml::node* lookup(const std::string& key) const {
+        if (std::find(read.begin(), read.end(), key) == read.end())
+            read.push_back(key);
+        return table->get(key);
+    }
+};
+
+const std::string& ScriptTable::path() const {
+    return impl_->path;
+}
+
+const std::string& ScriptTable::file() const {
+    return impl_->source->file;
+}
+
+ScriptLocation ScriptTable::location() const {
+    return impl_->where;
+}
+
+bool ScriptTable::has(const std::string& key) const {
+    return impl_->table->contains(key);
+}
+
+ScriptLocation ScriptTable::location(const std::string& key) const {
+    const toml::node* node = impl_->table->get(key);
+    return node ? locationOf(node->source()) : impl_->where;
+}
+
+ScriptError ScriptTable::error(const std::string& key, const std::string& message) const {
+    return error(location(key), key, message);
+}
+
+ScriptError ScriptTable::error(ScriptLocation where, const std::string& key,
+                               const std::string& message) const {
+    return errorAt(*impl_->source, where, impl_->keyPath(key), message);
+}
+
+template <typename T>
+std::optional<T> ScriptTable::find(const std::string& key) const {
+    const toml::node* node = impl_->lookup(key);
+    if (!node)
+        return std::nullopt;
+    if constexpr (std::is_same_v<T, bool>) {
+        if (const auto* v = node->as_boolean())
+            return v->get();
+    } else if constexpr (std::is_integral_v<T>) {
+        if (const auto* v = node->as_integer()) {
+            const int64_t x = v->get();
+            if (x < std::numeric_limits<T>::lowest() || x > std::numeric_limits<T>::max()) {
+                throw error(key, "expected an integer" +
+                                     rangeText(std::numeric_limits<T>::lowest(),
+                                               std::numeric_limits<T>::max(), x) +
+                                     ", got " + describe(*node));
+            }
+            return static_cast<T>(x);
+        }
+    } else if constexpr (std::is_floating_point_v<T>) {
+        if (const auto* v = node->as_floating_point())
+            return static_cast<T>(v->get());
+        if (const auto* v = node->as_integer())
+            return static_cast<T>(v->get());
+    } else {
+        if (const auto* v = node->as_string())
+            return v->get();
+    }
+    throw error(key, "expected " + noun<T>() + ", got " + describe(*node));
+}
+
+template <typename T>
+T ScriptTable::get(const std::string& key, T fallback, T minimum, T maximum) const {
+    // Integers are read as int64_t, so that a value past the type's limits fails with the range
+    // asked for rather than with the type's.
+    using Read = std::conditional_t<std::is_integral_v<T>, int64_t, T>;
+    const std::optional<Read> value = find<Read>(key);
+    if (!value)
+        return fallback;
+    // Written so that NaN fails too.
+    if (!(*value >= static_cast<Read>(minimum) && *value <= static_cast<Read>(maximum))) {
+        throw error(key, "expected " + noun<T>() + rangeText(minimum, maximum, *value) + ", got " +
+                             describe(*impl_->table->get(key)));
+    }
+    return static_cast<T>(*value);
+}
+
+template std::optional<bool> ScriptTable::find<bool>(const std::string&) const;
+template std::optional<int> ScriptTable::find<int>(const std::string&) const;
+template std::optional<int64_t> ScriptTable::find<int64_t>(const std::string&) const;
+template std::optional<float> ScriptTable::find<float>(const std::string&) const;
+template std::optional<double> ScriptTable::find<double>(const std::string&) const;
+template std::optional<std::string> ScriptTable::find<std::string>(const std::string&) const;
+template int ScriptTable::get<int>(const std::string&, int, int, int) const;
+template int64_t ScriptTable::get<int64_t>(const std::string&, int64_t, int64_t, int64_t) const;
+template float ScriptTable::get<float>(const std::string&, float, float, float) const;
+template double ScriptTable::get<double>(const std::string&, double, double, double) const;
+
+std::vector<std::pair<std::string, ScriptLocation>> ScriptTable::strings(
+    const std::string& key) const {
+    std::vector<std::pair<std::string, ScriptLocation>> result;
+    const toml::node* node = impl_->lookup(key);
+    if (!node)
+        return result;
+    if (const auto* v = node->as_string()) {
+        result.emplace_back(v->get(), locationOf(node->source()));
+        return result;
+    }
+    const toml::array* array = node->as_array();
+    if (!array || array->empty())
+        throw error(key, "expected a string or an array of strings, got " + describe(*node));
+    for (const toml::node& element : *array) {
+        const ScriptLocation where = locationOf(element.source());
+        const auto* v = element.as_string();
+        if (!v)
+            throw error(where, key, "expected a string, got " + describe(element));
+        result.emplace_back(v->get(), where);
+    }
+    return result;
+}
+
+std::vector<std::pair<std::string, std::string>> ScriptTable::entries() const {
+    std::vector<std::pair<ScriptLocation, std::pair<std::string, std::string>>> found;
+    for (const auto& [key, node] : *impl_->table) {
+        found.push_back({locationOf(key.source()), {std::string(key.str()), describe(node)}});
+    }
+    std::sort(found.begin(), found.end(),
+              [](const auto& a, const auto& b) { return before(a.first, b.first); });
+    std::vector<std::pair<std::string, std::string>> result;
+    for (auto& entry : found)
+        result.push_back(std::move(entry.second));
+    return result;
+}
+
+void ScriptTable::reportUnused() const {
+    const toml::key* first = nullptr;
+    for (const auto& [key, node] : *impl_->table) {
+        const std::string name(key.str());
+        if (std::find(impl_->read.begin(), impl_->read.end(), name) != impl_->read.end())
+            continue;
+        if (!first || before(locationOf(key.source()), locationOf(first->source())))
+            first = &key;
+    }
+    if (first) {
+        throw error(locationOf(first->source()), std::string(first->str()),
+                    "unknown key; valid keys here: " + joined(impl_->read));
+    }
+}
+
+namespace {
+
+std::shared_ptr<const ScriptSource> readSource(const std::string& path, std::string& text) {
+    std::error_code ec;
+    if (!fs::is_regular_file(path, ec))
+        throw UsageError(path + ": pass script not found");
+    std::ifstream in(path, std::ios::binary);
+    std::ostringstream content;
+    content << in.rdbuf();
+    if (!in)
+        throw UsageError(path + ": cannot read the pass script");
+    text = content.str();
+    auto source = std::make_shared<ScriptSource>();
+    source->file = path;
+    std::istringstream lines(text);
+    std::string line;
+    while (std::getline(lines, line)) {
+        if (!line.empty() && line.back() == '\r')
+            line.pop_back();
+        source->lines.push_back(line);
+    }
+    return source;
+}
+
+// A path the script gives, relative to the script's folder unless absolute.
+std::string resolve(const std::string& script, const std::string& path) {
+    return (fs::path(script).parent_path() / path).lexically_normal().string();
+}
+
+std::string readScene(const ScriptTable& top) {
+    const std::optional<std::string> scene = top.find<std::string>("scene");
+    if (!scene) {
+        throw top.error("scene",
+                        "missing: the glTF file to render, relative to the script, e.g. "
+                        "scene = \"model.gltf\"");
+    }
+    const std::string path = resolve(top.file(), *scene);
+    const std::string extension = fs::path(path).extension().string();
+    if (extension != ".gltf" && extension != ".glb")
+        throw top.error("scene", "expected a .gltf or .glb file, got \"" + *scene + "\"");
+    std::error_code ec;
+    if (!fs::is_regular_file(path, ec))
+        throw top.error("scene", "file not found: " + path);
+    return path;
+}
+
+// Outputs resolved against the script's folder, each checked as `-o` is (checkOutputPath).
+std::vector<std::string> readOutputs(const ScriptTable& top) {
+    std::vector<std::string> outputs;
+    std::vector<ScriptLocation> places;
+    for (const auto& [given, where] : top.strings("output")) {
+        const std::string path = resolve(top.file(), given);
+        for (size_t i = 0; i < outputs.size(); ++i) {
+            if (outputs[i] == path) {
+                throw top.error(where, "output",
+                                "\"" + given + "\" is given twice (first at line " +
+                                    std::to_string(places[i].line) + ")");
+            }
+        }
+        try {
+            checkOutputPath(path);
+        } catch (const InputError& e) {
+            throw top.error(where, "output", e.what());
+        }
+        outputs.push_back(path);
+        places.push_back(where);
+    }
+    return outputs;
+}
+
+template <typename T>
+std::optional<T> optionalIn(const ScriptTable& table, const std::string& key, T minimum,
+                            T maximum) {
+    if (!table.has(key)) {
+        table.find<T>(key);  // records the key as read, so reportUnused() lists it
+        return std::nullopt;
+    }
+    return table.get<T>(key, minimum, minimum, maximum);
+}
+
+}  // namespace
+
+PassScript loadPassScript(const std::string& path) {
+    std::string text;
+    const std::shared_ptr<const ScriptSource> source = readSource(path, text);
+    std::shared_ptr<toml::table> root;
+    try {
+        root = std::make_shared<toml::table>(toml::parse(text, path));
+    } catch (const toml::parse_error& e) {
+        throw errorAt(*source, locationOf(e.source()), "",
+                      "TOML syntax error: " + std::string(e.description()));
+    }
+
+    const auto tableAt = [&](const toml::table* table, std::string keyPath, ScriptLocation where) {
+        auto impl = std::make_shared<ScriptTable::Impl>();
+        impl->source = source;
+        impl->root = root;
+        impl->table = table;
+        impl->path = std::move(keyPath);
+        impl->where = where;
+        return ScriptTable(std::move(impl));
+    };
+    const ScriptTable top = tableAt(root.get(), "", ScriptLocation{});
+
+    constexpr int kIntMax = std::numeric_limits<int>::max();
+    PassScript script{
+        .file = path,
+        .scene = readScene(top),
+        .sceneIndex = optionalIn(top, "scene_index", 0, kIntMax),
+        .camera = top.find<std::string>("camera"),
+        .width = optionalIn(top, "width", 1, kIntMax),
+        .height = optionalIn(top, "height", 1, kIntMax),
+        .spp = optionalIn(top, "spp", 1, kIntMax),
+        .seed = optionalIn<int64_t>(top, "seed", 0, std::numeric_limits<uint32_t>::max()),
+        .outputs = readOutputs(top),
+        .passes = {},
+        .topLevel = top};
+
+    // [[pass]]: an array of tables, each a pass; its parameters are read by the registry.
+    const toml::node* passes = top.impl_->lookup("pass");
+    if (!passes) {
+        throw top.error("pass",
+                        "missing: a script needs at least one [[pass]] table with its type, e.g. "
+                        "[[pass]] type = \"path\"");
+    }
+    const toml::array* array = passes->as_array();
+    if (!array || !array->is_array_of_tables()) {
+        throw top.error("pass",
+                        "expected [[pass]] tables (an array of tables), got " + describe(*passes));
+    }
+    for (size_t i = 0; i < array->size(); ++i) {
+        const toml::table& table = *array->get(i)->as_table();
+        ScriptTable parameters =
+            tableAt(&table, "pass[" + std::to_string(i) + "]", locationOf(table.source()));
+        script.passes.push_back(
+            {parameters.find<std::string>("type").value_or(""), std::move(parameters)});
+    }
+    top.reportUnused();
+    return script;
+}
+
+}  // namespace penumbra
