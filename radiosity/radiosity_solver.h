@@ -139,7 +139,7 @@ class RadiositySolver : public RadiositySolution {
   private:
     // Point values of the unoccluded form factor from points of a receiver to a source.
     struct KernelSamples {
-        std::array<float, 3> corner;  // at the receiver's corners
+        std::array<float, 3> corner;  // at the receiver's corners (moved 1e-3 inwards)
         std::array<float, 3> mid;     // at the midpoints of its edges (corner i to i + 1)
         float centroid;               // at its centroid
 

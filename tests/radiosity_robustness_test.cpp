@@ -129,6 +129,27 @@ TEST(RadiosityRobustness, CoplanarTouchingTilesActAsOneFloor) {
     EXPECT_LT(check.maxError, 0.01);
 }
 
+// A block standing on the floor, emitting and reflecting on both sides: the floor runs under it,
+// so floor elements straddle its faces, and its faces meet the floor along contact lines where the
+// form factor between the two peaks. At the default settings the block's inner sides along the
+// contact lines were 18.6 % off (its outer sides 9 %), and more with finer settings: the oracle
+// sampled the kernel exactly on the contact line, where it is 0 (kernelSamples in
+// radiosity_solver.cpp), so links stayed at coarse receivers whose elements along the line gathered
+// a third too little. Fixed, the largest error over all leaf sides, inner ones included, is 8.7 %
+// (fixed seeds: the same on every run), and the 10 % bound is that plus margin. What remains is
+// visibility at coarse receivers: the 16 shadow rays of a floor patch can all miss its part under
+// the block, so its links to the walls look wholly visible (the leaves under the block gather walls
+// they cannot see) or wholly hidden and dropped (its leaves outside the block miss them).
+TEST(RadiosityRobustness, BlockInAFurnace) {
+    Furnace furnace;
+    addFloorBlock(furnace.scene, furnace.object);
+    const auto scene = loadBuiltScene(furnace.scene, "radiosity-furnace-block");
+    const FurnaceCheck check = checkFurnace(*scene, RadiositySettings{});
+    std::cout << check.leaves << " leaf sides, largest error " << check.maxError << "\n";
+    EXPECT_TRUE(check.allValid);
+    EXPECT_LT(check.maxError, 0.10);
+}
+
 // A lit room (a ceiling light, a block on the floor: occlusion, refinement along its shadow) at
 // other scales and far from the origin: radiance does not depend on the unit of length or on where
 // the scene is, so the area-weighted mean radiance of every scene mesh must match the untransformed
