@@ -1295,19 +1295,10 @@ void RadiositySolver::iterate(double threshold, int round) {
 }
 
 void RadiositySolver::computeVertexValues() {
-    vertexReflected_.assign(2, std::vector<Color>(mesh_.vertexCount(), Color(0.0f)));
-    std::vector<Color> values(mesh_.elementCount());
-    // The back first, so that the mesh is left with the front's values.
-    for (const bool side : {false, true}) {
-        for (size_t e = 0; e < values.size(); ++e) {
-            const int n = node(static_cast<int>(e), side);
-            values[e] = glm::max(L_[n] - emission(n), Color(0.0f));
-        }
-        mesh_.setElementValues(values);
-        std::vector<Color>& out = vertexReflected_[side ? 0 : 1];
-        for (size_t v = 0; v < out.size(); ++v)
-            out[v] = mesh_.vertexValue(static_cast<uint32_t>(v));
-    }
+    vertexReflected_.compute(mesh_, [this](int element, bool side) {
+        const int n = node(element, side);
+        return glm::max(L_[n] - emission(n), Color(0.0f));
+    });
 }
 
 // --- The whole solution ------------------------------------------------------------------------
@@ -1382,10 +1373,7 @@ Color RadiositySolver::radiance(uint32_t mesh, uint32_t triangle, Vec3 b, bool i
     const ElementPoint point = mesh_.locate(mesh, triangle, b);
     if (point.element < 0 || vertexReflected_.empty())
         return Color(0.0f);
-    const auto& v = mesh_.vertices(point.element);
-    const std::vector<Color>& values = vertexReflected_[front ? 0 : 1];
-    Color L = point.weights.x * values[v[0]] + point.weights.y * values[v[1]] +
-              point.weights.z * values[v[2]];
+    Color L = vertexReflected_.interpolate(mesh_, point, front);
     if (includeEmission)
         L += emission(node(point.element, front));
     return L;
@@ -1451,8 +1439,7 @@ PassStats RadiositySolver::stats() const {
     size_t memory = mesh.memoryBytes + links * sizeof(Link) +
                     links_.size() * (sizeof(std::vector<Link>) + 3 * sizeof(Color)) +
                     clusterLinks_.size() * (sizeof(Cluster) + sizeof(std::vector<Link>));
-    for (const auto& side : vertexReflected_)
-        memory += side.size() * sizeof(Color);
+    memory += vertexReflected_.memoryBytes();
     const RadiosityIteration last = iterations_.empty() ? RadiosityIteration{} : iterations_.back();
     return {{"patches", std::to_string(mesh.patches)},
             {"elements", std::to_string(mesh.elements)},

@@ -38,6 +38,7 @@
 #include "radiosity/cluster_tree.h"
 #include "radiosity/radiosity_mesh.h"
 #include "radiosity/radiosity_solution.h"
+#include "radiosity/vertex_values.h"
 
 #include <algorithm>
 #include <array>
@@ -285,7 +286,7 @@ class RadiositySolver : public RadiositySolution {
     std::vector<RadiosityIteration> iterations_;
     bool converged_ = false;
     int rounds_ = 0;
-    std::vector<std::vector<Color>> vertexReflected_;  // [front, back], per mesh vertex
+    SideVertexValues vertexReflected_;  // the reflected radiance, per mesh vertex and side
     uint64_t rays_ = 0;
     size_t refinedLinks_ = 0;
     double secondsDirect_ = 0, secondsLinking_ = 0, secondsLinks_ = 0, secondsSolve_ = 0,
