@@ -3,8 +3,8 @@
 // Lifecycle (after Tungsten's integrators and RenderPark's radiosity methods): prepare() once,
 // then run() until it reports that the pass is finished (a progressive pass returns after each
 // step, so a pipeline can stop it at a time limit), then stats(). Passes communicate only through
-// read-only products registered in the PassContext (image layers now; the radiosity solution and
-// the caustic photon map later), never through global mutable state.
+// read-only products registered in the PassContext (image layers, the radiosity solution, the
+// caustic photon map), never through global mutable state.
 //
 // Every pass declares the light transport its product contains, in Heckbert's notation for light
 // paths (Heckbert 1990, "Adaptive Radiosity Textures for Bidirectional Ray Tracing"): L a light,
@@ -17,7 +17,10 @@
 #include "core/render_settings.h"
 #include "core/scene.h"
 
+#include <any>
 #include <map>
+#include <memory>
+#include <set>
 #include <string>
 #include <utility>
 #include <vector>
@@ -36,8 +39,43 @@ class PassContext {
     const Camera& camera;
     const RenderSettings& settings;
 
-    // Image layers produced so far, by name: "beauty" and AOVs such as "albedo".
+    // Image layers produced so far, by name: each image-forming pass's contribution (under the
+    // pass's type, e.g. "path"), "beauty" (their sum, made by the composite) and AOVs such as
+    // "albedo".
     std::map<std::string, Image> layers;
+    // The names of the contribution layers, in the order the passes made them.
+    std::vector<std::string> contributions;
+
+    // Publishes the image a pass contributes to the beauty under `name`.
+    void contribute(const std::string& name, Image image) {
+        layers[name] = std::move(image);
+        contributions.push_back(name);
+    }
+
+    // Read-only products passes hand to later passes, by name ("radiosity": the radiosity
+    // solution; "caustics": the caustic photon map). The publisher keeps the type; a reader
+    // asks for the type it expects and gets null when the product is absent.
+    template <typename T>
+    void publish(const std::string& name, std::shared_ptr<const T> product) {
+        products_[name] = std::move(product);
+    }
+    template <typename T>
+    std::shared_ptr<const T> product(const std::string& name) const {
+        const auto it = products_.find(name);
+        if (it == products_.end())
+            return nullptr;
+        const auto* typed = std::any_cast<std::shared_ptr<const T>>(&it->second);
+        return typed ? *typed : nullptr;
+    }
+
+  private:
+    std::map<std::string, std::any> products_;
+};
+
+// What a pass learns of the rest of its pipeline when the pipeline is planned.
+struct PipelineShape {
+    std::set<std::string> products;     // made by any pass of the pipeline
+    std::set<std::string> neededLater;  // needed by a pass after this one
 };
 
 class Pass {
@@ -46,8 +84,19 @@ class Pass {
 
     // The pass type as written in pass scripts, e.g. "path".
     virtual std::string type() const = 0;
-    // The light paths the pass's product contains, as a Heckbert expression, e.g. "L(D|S)*E".
+    // The light paths of the image the pass adds to the beauty, as a Heckbert expression
+    // (core/light_paths.h), e.g. "L(D|S)*E"; "" when it adds no image (it only makes a product
+    // for later passes). Valid after adapt().
     virtual std::string lightPaths() const = 0;
+    // Products (PassContext::publish) the pass makes, and those it needs from earlier passes.
+    virtual std::set<std::string> products() const { return {}; }
+    virtual std::set<std::string> needs() const { return {}; }
+    // Called once by the planner before prepare(): a pass may change its role by what the rest
+    // of the pipeline does (a radiosity pass whose solution a later pass reuses shows no image
+    // of its own; a path pass leaves caustic paths to a caustic pass).
+    virtual void adapt(const PipelineShape&) {}
+    // The pass's parameters as resolved, for the plan and the log.
+    virtual PassStats parameters() const { return {}; }
 
     virtual void prepare(PassContext& context) = 0;
     // Advances the pass; returns true when it has finished.

@@ -1,13 +1,34 @@
 #include "passes/path_pass.h"
 
 #include "core/stats.h"
+#include "radiosity/radiosity_solution.h"
 
 #include <sstream>
 
 namespace penumbra {
 
+std::set<std::string> PathPass::needs() const {
+    if (settings_.reuseRadiosity)
+        return {"radiosity"};
+    return {};
+}
+
+void PathPass::adapt(const PipelineShape& shape) {
+    settings_.excludeCaustics = caustics_ == Caustics::Exclude ||
+                                (caustics_ == Caustics::Auto && shape.products.count("caustics"));
+}
+
+PassStats PathPass::parameters() const {
+    return {{"max_depth", std::to_string(settings_.maxDepth)},
+            {"radiosity", settings_.reuseRadiosity ? "true" : "false"},
+            {"caustics", caustics_ == Caustics::Auto      ? "auto"
+                         : caustics_ == Caustics::Include ? "include"
+                                                          : "exclude"}};
+}
+
 void PathPass::prepare(PassContext& context) {
-    tracer_ = std::make_unique<PathTracer>(context.scene, settings_);
+    radiosity_ = context.product<RadiositySolution>("radiosity");
+    tracer_ = std::make_unique<PathTracer>(context.scene, settings_, radiosity_.get());
     renderer_ = std::make_unique<ImageRenderer>(
         context.camera, context.settings,
         [tracer = tracer_.get()](const Ray& ray, Sampler& sampler, FirstHit* firstHit,
@@ -46,7 +67,7 @@ bool PathPass::run(PassContext& context) {
 }
 
 void PathPass::publish(PassContext& context) const {
-    context.layers["beauty"] = renderer_->film().resolve();
+    context.contribute(type(), renderer_->film().resolve());
     const auto& aovs = renderer_->aovNames();
     for (size_t a = 0; a < aovs.size(); ++a) {
         context.layers[aovs[a]] = renderer_->film().resolveAov(static_cast<int>(a));
@@ -58,12 +79,14 @@ PassStats PathPass::stats() const {
     std::ostringstream raysPerSecond;
     raysPerSecond.precision(4);
     raysPerSecond << static_cast<double>(renderer_->rays()) / seconds;
-    return {{"max_depth", std::to_string(settings_.maxDepth)},
-            {"spp", std::to_string(renderer_->samplesDone())},
-            {"seconds", std::to_string(seconds_)},
-            {"rays", std::to_string(renderer_->rays())},
-            {"rays_per_second", raysPerSecond.str()},
-            {"dropped_samples", std::to_string(renderer_->droppedSamples())}};
+    PassStats stats = parameters();
+    const PassStats figures = {{"spp", std::to_string(renderer_->samplesDone())},
+                               {"seconds", std::to_string(seconds_)},
+                               {"rays", std::to_string(renderer_->rays())},
+                               {"rays_per_second", raysPerSecond.str()},
+                               {"dropped_samples", std::to_string(renderer_->droppedSamples())}};
+    stats.insert(stats.end(), figures.begin(), figures.end());
+    return stats;
 }
 
 }  // namespace penumbra

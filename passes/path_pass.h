@@ -1,7 +1,10 @@
-// The path-tracing pass: forms the image with the unbiased path tracer (raytrace/path_tracer.h).
-// Alone it is the `reference` pipeline, the ground truth of every other pipeline.
+// The path-tracing pass: forms the image with the path tracer (raytrace/path_tracer.h). Alone it
+// is the `reference` pipeline, the ground truth of every other pipeline; in the `hybrid` pipeline
+// it reuses the radiosity solution at the second diffuse vertex and leaves caustic paths to the
+// caustic pass.
 //
-// Product: image layers "beauty" (all light paths, L(D|S)*E) and the requested AOVs.
+// Contribution: image layer "path" (the light paths of pathTracerLightPaths()), and the
+// requested AOVs.
 #pragma once
 
 #include "core/pass.h"
@@ -16,10 +19,18 @@ namespace penumbra {
 
 class PathPass : public Pass {
   public:
-    explicit PathPass(PathTracerSettings settings) : settings_(settings) {}
+    // Whether caustic paths (L S+ D S* E) are counted: Auto leaves them out exactly when the
+    // pipeline has a caustic pass.
+    enum class Caustics { Auto, Include, Exclude };
+
+    PathPass(PathTracerSettings settings, Caustics caustics = Caustics::Auto)
+        : settings_(settings), caustics_(caustics) {}
 
     std::string type() const override { return "path"; }
-    std::string lightPaths() const override { return "L(D|S)*E"; }
+    std::string lightPaths() const override { return pathTracerLightPaths(settings_); }
+    std::set<std::string> needs() const override;
+    void adapt(const PipelineShape& shape) override;
+    PassStats parameters() const override;
     void prepare(PassContext& context) override;
     bool run(PassContext& context) override;
     PassStats stats() const override;
@@ -28,6 +39,8 @@ class PathPass : public Pass {
     void publish(PassContext& context) const;
 
     PathTracerSettings settings_;
+    Caustics caustics_;
+    std::shared_ptr<const RadiositySolution> radiosity_;
     std::unique_ptr<PathTracer> tracer_;
     std::unique_ptr<ImageRenderer> renderer_;
     std::unique_ptr<Progress> progress_;

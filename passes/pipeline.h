@@ -5,6 +5,7 @@
 #include "core/pass.h"
 #include "passes/pass_script.h"
 
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -20,12 +21,24 @@ class Pipeline {
     const std::string& name() const { return name_; }
     const std::vector<std::unique_ptr<Pass>>& passes() const { return passes_; }
 
-    // Prepares and runs every pass in order, each until it reports it has finished.
-    void run(PassContext& context);
+    // Leaves pass `index` out of run() (the planner's decision for a scene that does not need
+    // it); its products are then absent, which the passes that reuse them read as zero.
+    void skip(size_t index) { skipped_.at(index) = true; }
+    bool skipped(size_t index) const { return skipped_.at(index); }
+
+    // Asked before every pass's prepare() (with 0) and after every step of a pass that has not
+    // finished (with the step's seconds); returning false abandons the run.
+    using StepHook = std::function<bool(double stepSeconds)>;
+
+    // Prepares and runs every pass that is not skipped, in order, each until it reports it has
+    // finished; then composites (passes/composite.h) unless a composite pass already did.
+    // Returns false when the hook abandoned the run (the layers are then incomplete).
+    bool run(PassContext& context, const StepHook& hook = {});
 
   private:
     std::string name_;
     std::vector<std::unique_ptr<Pass>> passes_;
+    std::vector<bool> skipped_ = std::vector<bool>(passes_.size(), false);
 };
 
 // The names of the built-in pipelines, in the order `--help` lists them.

@@ -26,17 +26,22 @@ void RadiosityPass::prepare(PassContext& context) {
     scene_ = &context.scene;
     if (const auto* hierarchical = std::get_if<RadiositySettings>(&settings_)) {
         mesh_ =
-            std::make_unique<RadiosityMesh>(context.scene, hierarchical->meshing(context.scene));
+            std::make_shared<RadiosityMesh>(context.scene, hierarchical->meshing(context.scene));
         auto solver = std::make_unique<RadiositySolver>(context.scene, *mesh_, *hierarchical);
         solver->solve();
         solution_ = std::move(solver);
     } else {
         const auto& progressive = std::get<ProgressiveSettings>(settings_);
-        mesh_ = std::make_unique<RadiosityMesh>(context.scene, progressive.meshing(context.scene));
+        mesh_ = std::make_shared<RadiosityMesh>(context.scene, progressive.meshing(context.scene));
         auto solver = std::make_unique<ProgressiveSolver>(context.scene, *mesh_, progressive);
         solver->solve();
         solution_ = std::move(solver);
     }
+    // The solution refers to the mesh: the product keeps both alive for the passes after.
+    context.publish<RadiositySolution>(
+        "radiosity", std::shared_ptr<const RadiositySolution>(mesh_, solution_.get()));
+    if (!view_)
+        return;
     renderer_ = std::make_unique<ImageRenderer>(
         context.camera, context.settings,
         [this](const Ray& ray, Sampler&, FirstHit* firstHit, PathCounters& counters) {
@@ -77,13 +82,15 @@ Color RadiosityPass::Li(Ray ray, FirstHit* firstHit, PathCounters& counters) con
 }
 
 bool RadiosityPass::run(PassContext& context) {
+    if (!view_)
+        return true;
     renderer_->renderSamplePass();
     progress_->advance(1);
     renderSeconds_ = secondsSince(renderStart_);
     if (renderer_->samplesDone() < context.settings.spp)
         return false;
     progress_->finish();
-    context.layers["beauty"] = renderer_->film().resolve();
+    context.contribute(type(), renderer_->film().resolve());
     const auto& aovs = renderer_->aovNames();
     for (size_t a = 0; a < aovs.size(); ++a)
         context.layers[aovs[a]] = renderer_->film().resolveAov(static_cast<int>(a));
@@ -92,13 +99,31 @@ bool RadiosityPass::run(PassContext& context) {
 
 PassStats RadiosityPass::stats() const {
     // The resolved settings first, so that every image says how it was made (STYLE.md).
+    PassStats stats = parameters();
+    for (const auto& entry : solution_->stats())
+        stats.push_back(entry);
+    if (!view_)
+        return stats;
+    stats.push_back({"spp", std::to_string(renderer_->samplesDone())});
+    stats.push_back({"render_seconds", formatStat(renderSeconds_)});
+    stats.push_back({"render_rays", std::to_string(renderer_->rays())});
+    stats.push_back({"dropped_samples", std::to_string(renderer_->droppedSamples())});
+    return stats;
+}
+
+PassStats RadiosityPass::parameters() const {
+    // Before prepare() (penumbra plan) the sizes that depend on the scene are not resolved yet.
+    const auto size = [this](float value) {
+        return value > 0.0f || scene_ ? formatStat(value) : std::string("auto");
+    };
     PassStats stats;
     if (const auto* h = std::get_if<RadiositySettings>(&settings_)) {
-        const MeshingSettings meshing = h->meshing(*scene_);
+        const MeshingSettings meshing =
+            scene_ ? h->meshing(*scene_) : MeshingSettings{h->patchEdgeLength, h->minElementArea};
         stats = {{"solver", h->solver},
                  {"epsilon", formatStat(h->epsilon)},
-                 {"patch_edge_length", formatStat(meshing.patchEdgeLength)},
-                 {"min_element_area", formatStat(meshing.minElementArea)},
+                 {"patch_edge_length", size(meshing.patchEdgeLength)},
+                 {"min_element_area", size(meshing.minElementArea)},
                  {"convergence", formatStat(h->convergence)},
                  {"visibility_samples", std::to_string(h->visibilitySamples)},
                  {"max_iterations", std::to_string(h->maxIterations)},
@@ -109,9 +134,9 @@ PassStats RadiosityPass::stats() const {
                  {"subdivision_threshold", formatStat(h->subdivisionThreshold)}};
     } else {
         const auto& p = std::get<ProgressiveSettings>(settings_);
-        const MeshingSettings meshing = p.meshing(*scene_);
         stats = {{"solver", "progressive"},
-                 {"patch_edge_length", formatStat(meshing.patchEdgeLength)},
+                 {"patch_edge_length",
+                  size(scene_ ? p.meshing(*scene_).patchEdgeLength : p.patchEdgeLength)},
                  {"element_area", formatStat(p.elementArea)},
                  {"threshold", formatStat(p.threshold)},
                  {"max_shots", std::to_string(p.maxShots)},
@@ -119,12 +144,6 @@ PassStats RadiosityPass::stats() const {
                  {"adaptive_visibility", p.adaptiveVisibility ? "true" : "false"},
                  {"ambient", p.ambient ? "true" : "false"}};
     }
-    for (const auto& entry : solution_->stats())
-        stats.push_back(entry);
-    stats.push_back({"spp", std::to_string(renderer_->samplesDone())});
-    stats.push_back({"render_seconds", formatStat(renderSeconds_)});
-    stats.push_back({"render_rays", std::to_string(renderer_->rays())});
-    stats.push_back({"dropped_samples", std::to_string(renderer_->droppedSamples())});
     return stats;
 }
 

@@ -4,8 +4,10 @@
 // interpolated radiance on the side the ray sees, emission included. No further bounce is traced:
 // specular and transmissive light is not in the image.
 //
-// Product: image layers "beauty" (light paths L D* E: emission seen directly and the diffusely
-// reflected light of every bounce, of the Lambertian layers only) and the requested AOVs.
+// Product: the solution ("radiosity", a RadiositySolution) for later passes. When no later pass
+// reuses it, the pass also contributes the image "radiosity" (light paths L D* E: emission seen
+// directly and the diffusely reflected light of every bounce, of the Lambertian layers only) and
+// the requested AOVs; otherwise it forms no image.
 #pragma once
 
 #include "core/pass.h"
@@ -29,7 +31,12 @@ class RadiosityPass : public Pass {
     ~RadiosityPass() override;
 
     std::string type() const override { return "radiosity"; }
-    std::string lightPaths() const override { return "LD*E"; }
+    std::string lightPaths() const override { return view_ ? "LD*E" : ""; }
+    std::set<std::string> products() const override { return {"radiosity"}; }
+    void adapt(const PipelineShape& shape) override {
+        view_ = !shape.neededLater.count("radiosity");
+    }
+    PassStats parameters() const override;
     // Meshes the scene and solves (the long part); the image is formed by run().
     void prepare(PassContext& context) override;
     // Renders one sample per pixel; finished after RenderSettings::spp of them.
@@ -45,9 +52,10 @@ class RadiosityPass : public Pass {
 
   private:
     std::variant<RadiositySettings, ProgressiveSettings> settings_;
+    bool view_ = true;  // forms the image (no later pass reuses the solution)
     const Scene* scene_ = nullptr;
-    std::unique_ptr<RadiosityMesh> mesh_;
-    std::unique_ptr<RadiositySolution> solution_;
+    std::shared_ptr<RadiosityMesh> mesh_;
+    std::shared_ptr<RadiositySolution> solution_;
     std::unique_ptr<ImageRenderer> renderer_;
     std::unique_ptr<Progress> progress_;
     std::chrono::steady_clock::time_point renderStart_;

@@ -2,13 +2,16 @@
 // scripts (name -> the constructor from a [[pass]] table). Adding a preset or a pass type touches
 // this file, the pass's own files and a test.
 #include "core/errors.h"
+#include "passes/composite.h"
 #include "passes/path_pass.h"
 #include "passes/pipeline.h"
+#include "passes/planner.h"
 #include "passes/radiosity_pass.h"
 
 #include <algorithm>
 #include <filesystem>
 #include <functional>
+#include <stdexcept>
 #include <utility>
 
 namespace penumbra {
@@ -29,6 +32,17 @@ const std::vector<std::pair<std::string, PresetFactory>>& presets() {
          [](const RenderSettings&) {
              std::vector<std::unique_ptr<Pass>> passes;
              passes.push_back(std::make_unique<RadiosityPass>(RadiositySettings{}));
+             return passes;
+         }},
+        // The seed's three-pass method: radiosity, then path tracing that takes the solution at
+        // the second diffuse vertex (docs/light-paths.md).
+        {"hybrid",
+         [](const RenderSettings& settings) {
+             std::vector<std::unique_ptr<Pass>> passes;
+             passes.push_back(std::make_unique<RadiosityPass>(RadiositySettings{}));
+             PathTracerSettings path{settings.maxDepth};
+             path.reuseRadiosity = true;
+             passes.push_back(std::make_unique<PathPass>(path));
              return passes;
          }},
     };
@@ -106,10 +120,27 @@ std::unique_ptr<Pass> radiosityPass(const ScriptTable& p, const PassOverrides&) 
     throw p.error("solver", "unknown solver '" + solver + "'; valid: hierarchical, progressive");
 }
 
-// The path-tracing pass (the `reference` pipeline's).
+// The path-tracing pass (the `reference` pipeline's; the `hybrid` one's with radiosity = true).
 std::unique_ptr<Pass> pathPass(const ScriptTable& p, const PassOverrides& overrides) {
-    const int maxDepth = p.get("max_depth", -1, -1, kMaxDepthLimit);
-    return std::make_unique<PathPass>(PathTracerSettings{overrides.maxDepth.value_or(maxDepth)});
+    PathTracerSettings settings;
+    settings.maxDepth =
+        overrides.maxDepth.value_or(p.get("max_depth", settings.maxDepth, -1, kMaxDepthLimit));
+    settings.reuseRadiosity = p.get("radiosity", false);
+    const std::string caustics = p.get<std::string>("caustics", "auto");
+    const std::vector<std::pair<std::string, PathPass::Caustics>> modes = {
+        {"auto", PathPass::Caustics::Auto},
+        {"include", PathPass::Caustics::Include},
+        {"exclude", PathPass::Caustics::Exclude}};
+    for (const auto& [name, mode] : modes) {
+        if (name == caustics)
+            return std::make_unique<PathPass>(settings, mode);
+    }
+    throw p.error("caustics", "unknown value '" + caustics + "'; valid: auto, include, exclude");
+}
+
+// The composite: sums the contributions so far into the beauty; no parameters.
+std::unique_ptr<Pass> compositePass(const ScriptTable&, const PassOverrides&) {
+    return std::make_unique<CompositePass>();
 }
 
 using PassFactory =
@@ -119,13 +150,14 @@ const std::vector<std::pair<std::string, PassFactory>>& passTypes() {
     static const std::vector<std::pair<std::string, PassFactory>> table = {
         {"radiosity", radiosityPass},
         {"path", pathPass},
+        {"composite", compositePass},
     };
     return table;
 }
 
 // Pass types of the hybrid pipeline that do not exist yet: named in messages as such rather than
 // as unknown words.
-const std::vector<std::string> kPlannedPassTypes = {"distribution", "caustics", "composite"};
+const std::vector<std::string> kPlannedPassTypes = {"distribution", "caustics"};
 
 std::string joined(const std::vector<std::string>& names) {
     std::string text;
@@ -168,19 +200,17 @@ std::vector<std::string> passTypeNames() {
 Pipeline makeScriptPipeline(const PassScript& script, const PassOverrides& overrides) {
     std::vector<std::unique_ptr<Pass>> passes;
     for (const ScriptPass& entry : script.passes) {
-        std::unique_ptr<Pass> pass = makeScriptPass(entry, overrides);
-        // Every pass forms the whole image; without the composite pass to combine them, a second
-        // one would only overwrite the first's.
-        if (!passes.empty()) {
+        // The composite sums what the passes before it made: a pass after it would be lost.
+        if (!passes.empty() && passes.back()->type() == "composite") {
             throw entry.parameters.error(
-                "", "a second pass: until the composite pass exists, a script holds one pass (" +
-                        script.passes.front().parameters.path() + " at line " +
-                        std::to_string(script.passes.front().parameters.location().line) +
-                        " already forms the image)");
+                "", "a pass after the composite pass: the composite must be the last pass");
         }
-        passes.push_back(std::move(pass));
+        passes.push_back(makeScriptPass(entry, overrides));
     }
-    return Pipeline(std::filesystem::path(script.file).filename().string(), std::move(passes));
+    Pipeline pipeline(std::filesystem::path(script.file).filename().string(), std::move(passes));
+    if (const auto problem = checkPipeline(pipeline))
+        throw script.passes.at(problem->pass).parameters.error("", problem->message);
+    return pipeline;
 }
 
 std::vector<std::string> pipelinePresetNames() {
@@ -193,8 +223,13 @@ std::vector<std::string> pipelinePresetNames() {
 Pipeline makePipelinePreset(const std::string& name, const RenderSettings& settings) {
     std::string valid;
     for (const auto& [presetName, factory] : presets()) {
-        if (presetName == name)
-            return Pipeline(name, factory(settings));
+        if (presetName == name) {
+            Pipeline pipeline(name, factory(settings));
+            // A preset is consistent by construction; a problem here is a bug in this file.
+            if (const auto problem = checkPipeline(pipeline))
+                throw std::logic_error("pipeline preset " + name + ": " + problem->message);
+            return pipeline;
+        }
         valid += (valid.empty() ? "" : ", ") + presetName;
     }
     throw UsageError("--pipeline: unknown pipeline '" + name + "'; valid: " + valid);

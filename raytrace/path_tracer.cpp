@@ -2,6 +2,7 @@
 
 #include "core/sampler.h"
 #include "core/sampling.h"
+#include "radiosity/radiosity_solution.h"
 
 namespace penumbra {
 
@@ -25,8 +26,20 @@ Color volumeAttenuation(const Scene& scene, const SurfaceHit& hit, const Vec3& d
 
 }  // namespace
 
-PathTracer::PathTracer(const Scene& scene, const PathTracerSettings& settings)
-    : scene_(scene), settings_(settings) {}
+std::string pathTracerLightPaths(const PathTracerSettings& settings) {
+    // Without reuse: every path, less the caustic ones (paths with no D: L S* E; one D with no S
+    // before it: L D S* E; two or more D: L (D|S)* D S* D S* E). With reuse: the radiosity
+    // solution's L D+ at the second diffuse vertex seen through specular chains, plus what the
+    // first diffuse vertex's next-event estimation and BSDF samples find.
+    if (!settings.reuseRadiosity)
+        return settings.excludeCaustics ? "L S* E | L D S* E | L (D|S)* D S* D S* E" : "L(D|S)*E";
+    return settings.excludeCaustics ? "L S* E | L D S* E | L D+ S* D S* E"
+                                    : "L S* E | L S* D S* E | L D+ S* D S* E";
+}
+
+PathTracer::PathTracer(const Scene& scene, const PathTracerSettings& settings,
+                       const RadiositySolution* radiosity)
+    : scene_(scene), settings_(settings), radiosity_(radiosity) {}
 
 Color PathTracer::sampleDirectLight(const SurfaceHit& hit, const Bsdf& bsdf, const Vec3& wo,
                                     Sampler& sampler, PathCounters& counters) const {
@@ -68,6 +81,10 @@ Color PathTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHit, PathCounters
     bool lastDelta = true;  // the camera counts as a delta vertex for emission
     float lastBsdfPdf = 0.0f;
     LightSampleContext lastCtx;
+    // Vertices left through a non-delta lobe so far, and whether a specular vertex followed the
+    // last of them: the path classes of the header's comment.
+    int diffuseVertices = 0;
+    bool specularAfterDiffuse = false;
 
     while (true) {
         ++counters.rays;
@@ -80,7 +97,8 @@ Color PathTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHit, PathCounters
         // Emission reached by the previous BSDF sample, MIS-weighted against next-event
         // estimation at the previous vertex (Veach 1997, Eq. 9.13).
         const Color Le = scene_.emitted(*hit, wo);
-        if (maxComponent(Le) > 0.0f) {
+        const bool causticPath = diffuseVertices == 1 && specularAfterDiffuse;
+        if (maxComponent(Le) > 0.0f && !(causticPath && settings_.excludeCaustics)) {
             float weight = 1.0f;
             const int lightIndex = scene_.lightIndex(*hit);
             if (!lastDelta && lightIndex >= 0) {
@@ -119,7 +137,15 @@ Color PathTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHit, PathCounters
         if (settings_.maxDepth >= 0 && depth >= settings_.maxDepth)
             break;
 
-        if (bsdf.hasNonDeltaLobe())
+        // A second diffuse vertex under radiosity reuse: the solution's reflected light on the
+        // side wo sees stands for everything a diffuse bounce here would gather.
+        const bool reuseHere =
+            settings_.reuseRadiosity && diffuseVertices >= 1 && bsdf.hasNonDeltaLobe();
+        if (reuseHere && radiosity_) {
+            L += beta * radiosity_->radiance(hit->mesh, hit->triangle, hit->barycentric, false,
+                                             glm::dot(wo, hit->ng) > 0.0f);
+        }
+        if (bsdf.hasNonDeltaLobe() && !reuseHere)
             L += beta * sampleDirectLight(*hit, bsdf, wo, sampler, counters);
 
         const float uLobe = sampler.get1D();
@@ -127,6 +153,14 @@ Color PathTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHit, PathCounters
         const std::optional<BsdfSample> bs = bsdf.sample(wo, uLobe, uDirection);
         if (!bs || !(bs->pdf > 0.0f))
             break;
+        if (reuseHere && !bs->isDelta())
+            break;  // the radiosity term above holds this bounce
+        if (bs->isDelta()) {
+            specularAfterDiffuse = diffuseVertices > 0;
+        } else {
+            ++diffuseVertices;
+            specularAfterDiffuse = false;
+        }
         beta *= bs->f * (std::abs(glm::dot(bs->wi, bsdf.shadingNormal())) / bs->pdf);
         if (maxComponent(beta) <= 0.0f)
             break;

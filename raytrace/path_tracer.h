@@ -4,6 +4,18 @@
 //
 // Light transport: all paths L (D|S)* E, i.e. emission seen directly, direct light, indirect
 // diffuse and glossy light, specular reflection and refraction, and caustics.
+//
+// The hybrid pipeline (the seed's three-pass method) narrows it in two ways, each a setting:
+// - reuse of a radiosity solution: a path that reaches a second diffuse vertex (after the first
+//   one and any specular ones between) takes the solution's reflected radiance there (light paths
+//   L D+ ending there, emission excluded: that is counted by the emission step and MIS) and
+//   traces on only through that vertex's specular lobes; next-event estimation happens at the
+//   first diffuse vertex only.
+// - caustic exclusion: emission reached from the first diffuse vertex through one or more
+//   specular vertices (L S+ D S* E, the caustic pass's share) is dropped.
+// A vertex is diffuse or specular by the lobe it is left through (a plastic's diffuse base and
+// smooth coat make it either); next-event estimation and the radiosity term are taken at any
+// vertex with a non-delta lobe, in its diffuse role. lightPaths() gives the resulting set.
 #pragma once
 
 #include "core/math.h"
@@ -11,14 +23,22 @@
 #include "core/scene.h"
 
 #include <cstdint>
+#include <string>
 
 namespace penumbra {
 
+class RadiositySolution;
 class Sampler;
 
 struct PathTracerSettings {
     int maxDepth = -1;  // maximum number of scattering events; -1 = unlimited (roulette ends paths)
+    bool reuseRadiosity = false;   // take a radiosity solution at the second diffuse vertex
+    bool excludeCaustics = false;  // drop L S+ D S* E
 };
+
+// The light paths, in Heckbert's notation (core/light_paths.h), that a path tracer with these
+// settings counts.
+std::string pathTracerLightPaths(const PathTracerSettings& settings);
 
 // What the first visible surface looked like, for AOV layers.
 struct FirstHit {
@@ -34,7 +54,11 @@ struct PathCounters {
 
 class PathTracer {
   public:
-    PathTracer(const Scene& scene, const PathTracerSettings& settings);
+    // radiosity: the solution to reuse; required when settings.reuseRadiosity, and then may be
+    // null only when the scene has no diffuse surface (the planner skipped the radiosity pass:
+    // there is nothing to reflect).
+    PathTracer(const Scene& scene, const PathTracerSettings& settings,
+               const RadiositySolution* radiosity = nullptr);
 
     // Radiance (cd/m²) arriving along -ray.d at the ray's origin, estimated with one path.
     // The result may be non-finite only through a bug or broken input; callers drop such samples.
@@ -48,6 +72,7 @@ class PathTracer {
 
     const Scene& scene_;
     PathTracerSettings settings_;
+    const RadiositySolution* radiosity_;
 };
 
 }  // namespace penumbra

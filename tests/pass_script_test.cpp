@@ -196,15 +196,30 @@ TEST_F(PassScriptTest, OutOfRange) {
 
 TEST_F(PassScriptTest, PassTypes) {
     EXPECT_EQ(firstLine(error(kScene + "[[pass]]\ntype = \"photon\"\n")),
-              "3:8: pass[0].type: unknown pass type 'photon'; valid: radiosity, path (planned: "
-              "distribution, caustics, composite)");
+              "3:8: pass[0].type: unknown pass type 'photon'; valid: radiosity, path, composite "
+              "(planned: distribution, caustics)");
     EXPECT_EQ(firstLine(error(kScene + "[[pass]]\ntype = \"caustics\"\n")),
               "3:8: pass[0].type: pass type 'caustics' is not implemented yet; implemented: "
-              "radiosity, path");
+              "radiosity, path, composite");
     EXPECT_EQ(firstLine(error(kScene + "\n[[pass]]\nepsilon = 0.1\n")),
-              "3:1: pass[0].type: missing; valid pass types: radiosity, path");
-    EXPECT_EQ(firstLine(error(kScene + kPath + "\n" + kPath)).substr(0, 65),
-              "5:1: pass[1]: a second pass: until the composite pass exists, a s");
+              "3:1: pass[0].type: missing; valid pass types: radiosity, path, composite");
+}
+
+// The planner's checks (passes/planner.h) reach the script's author at the offending table.
+TEST_F(PassScriptTest, PipelinesThatCountAPathTwiceOrLackAProduct) {
+    EXPECT_EQ(firstLine(error(kScene + kPath + "\n" + kPath)),
+              "5:1: pass[1]: pass 2 (path) and pass 1 (path) both count the light paths L E, L D "
+              "E, L S E, ... (path: L(D|S)*E; path: L(D|S)*E): each path must be counted once");
+    // The radiosity view counts L D* E, which a path pass that does not reuse it counts too.
+    EXPECT_EQ(firstLine(error(kScene + "[[pass]]\ntype = \"radiosity\"\n\n" + kPath)).substr(0, 71),
+              "5:1: pass[1]: pass 2 (path) and pass 1 (radiosity) both count the light");
+    EXPECT_EQ(firstLine(error(kScene + kPath + "radiosity = true\n")),
+              "2:1: pass[0]: pass 1 (path) reuses the radiosity product, which no earlier pass "
+              "makes: put a pass of type 'radiosity' before it");
+    EXPECT_EQ(firstLine(error(kScene + "[[pass]]\ntype = \"composite\"\n\n" + kPath)),
+              "5:1: pass[1]: a pass after the composite pass: the composite must be the last pass");
+    EXPECT_EQ(firstLine(error(kScene + kPath + "caustics = \"some\"\n")),
+              "4:12: pass[0].caustics: unknown value 'some'; valid: auto, include, exclude");
 }
 
 TEST_F(PassScriptTest, MissingPasses) {

@@ -1,0 +1,150 @@
+#include "passes/planner.h"
+
+#include "core/light_paths.h"
+
+#include <algorithm>
+
+namespace penumbra {
+
+namespace {
+
+std::string passName(size_t index, const Pass& pass) {
+    return "pass " + std::to_string(index + 1) + " (" + pass.type() + ")";
+}
+
+std::string joined(const std::vector<std::string>& items, const std::string& separator) {
+    std::string text;
+    for (const std::string& item : items)
+        text += (text.empty() ? "" : separator) + item;
+    return text;
+}
+
+// Triangles of a mesh looked at to classify its material: enough to meet the rough and smooth
+// parts of a textured roughness, few enough for scenes of millions of triangles.
+constexpr size_t kTrianglesPerMesh = 16;
+
+}  // namespace
+
+std::optional<PipelineProblem> checkPipeline(Pipeline& pipeline) {
+    const auto& passes = pipeline.passes();
+    PipelineShape shape;
+    for (const auto& pass : passes) {
+        for (const std::string& product : pass->products())
+            shape.products.insert(product);
+    }
+    for (size_t i = 0; i < passes.size(); ++i) {
+        shape.neededLater.clear();
+        for (size_t j = i + 1; j < passes.size(); ++j) {
+            for (const std::string& need : passes[j]->needs())
+                shape.neededLater.insert(need);
+        }
+        passes[i]->adapt(shape);
+    }
+
+    std::set<std::string> made;
+    for (size_t i = 0; i < passes.size(); ++i) {
+        for (const std::string& need : passes[i]->needs()) {
+            if (made.count(need) == 0) {
+                // Products are named after the pass type that makes them.
+                return PipelineProblem{i, passName(i, *passes[i]) + " reuses the " + need +
+                                              " product, which no earlier pass makes: put a pass "
+                                              "of type '" +
+                                              need + "' before it"};
+            }
+        }
+        for (const std::string& product : passes[i]->products())
+            made.insert(product);
+    }
+
+    // Every pair of image-forming passes must count disjoint sets of light paths.
+    for (size_t j = 0; j < passes.size(); ++j) {
+        if (passes[j]->lightPaths().empty())
+            continue;
+        const PathSet later = PathSet::parse(passes[j]->lightPaths());
+        for (size_t i = 0; i < j; ++i) {
+            if (passes[i]->lightPaths().empty())
+                continue;
+            const PathSet common = PathSet::parse(passes[i]->lightPaths()) & later;
+            const std::vector<std::string> examples = common.shortestPaths(3);
+            if (!examples.empty()) {
+                return PipelineProblem{
+                    j, passName(j, *passes[j]) + " and " + passName(i, *passes[i]) +
+                           " both count the light paths " + joined(examples, ", ") +
+                           (examples.size() == 3 ? ", ..." : "") + " (" + passes[j]->type() + ": " +
+                           passes[j]->lightPaths() + "; " + passes[i]->type() + ": " +
+                           passes[i]->lightPaths() + "): each path must be counted once"};
+            }
+        }
+    }
+    return std::nullopt;
+}
+
+SceneContents analyseScene(const Scene& scene) {
+    SceneContents contents;
+    for (uint32_t m = 0; m < scene.meshes().size(); ++m) {
+        const size_t count = scene.meshes()[m].triangles.size();
+        const size_t step = std::max<size_t>(1, count / kTrianglesPerMesh);
+        for (size_t t = 0; t < count && !(contents.diffuse && contents.specular); t += step) {
+            const SurfaceHit hit = scene.surfaceAt(m, static_cast<uint32_t>(t), Vec3(1.0f / 3.0f));
+            const Bsdf bsdf = scene.bsdf(hit);
+            contents.diffuse = contents.diffuse || bsdf.hasNonDeltaLobe();
+            contents.specular = contents.specular || (bsdf.lobes() & kLobeSpecular) != 0;
+        }
+    }
+    for (const auto& light : scene.lights()) {
+        if (light->kind() == LightKind::Area)
+            ++contents.areaLights;
+        else
+            ++contents.punctualLights;
+    }
+    return contents;
+}
+
+PipelinePlan planForScene(Pipeline& pipeline, const SceneContents& contents) {
+    PipelinePlan plan;
+    plan.universe = contents.diffuse && contents.specular ? "L(D|S)*E"
+                    : contents.diffuse                    ? "LD*E"
+                    : contents.specular                   ? "LS*E"
+                                                          : "LE";
+
+    if (contents.areaLights + contents.punctualLights == 0) {
+        plan.warnings.push_back(
+            "the scene has no light (no emissive surface, no "
+            "KHR_lights_punctual light): the image is black");
+    } else if (contents.areaLights == 0) {
+        plan.decisions.push_back("lights: " + std::to_string(contents.punctualLights) +
+                                 " punctual, no emissive surface: no area sampling");
+    }
+
+    const auto& passes = pipeline.passes();
+    PathSet counted = PathSet::parse("");
+    for (size_t i = 0; i < passes.size(); ++i) {
+        const Pass& pass = *passes[i];
+        std::string skip;
+        if (pass.type() == "caustics" && !contents.specular)
+            skip = "no surface has a specular lobe, so there are no caustic paths";
+        else if (pass.type() == "radiosity" && pass.lightPaths().empty() && !contents.diffuse)
+            skip = "no surface has a diffuse lobe, so the solution would be zero";
+        if (!skip.empty()) {
+            pipeline.skip(i);
+            plan.decisions.push_back(passName(i, pass) + ": skipped: " + skip);
+            continue;
+        }
+        plan.decisions.push_back(passName(i, pass) + ": runs; " +
+                                 (pass.lightPaths().empty() ? "adds no image of its own"
+                                                            : "counts " + pass.lightPaths()));
+        if (!pass.lightPaths().empty())
+            counted = counted | PathSet::parse(pass.lightPaths());
+    }
+
+    const PathSet missing = PathSet::parse(plan.universe) - counted;
+    const std::vector<std::string> examples = missing.shortestPaths(3);
+    if (!examples.empty()) {
+        plan.warnings.push_back("no pass counts the light paths " + joined(examples, ", ") +
+                                (examples.size() == 3 ? " and more like them" : "") +
+                                ": their light is missing from the image");
+    }
+    return plan;
+}
+
+}  // namespace penumbra

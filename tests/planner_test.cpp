@@ -1,0 +1,187 @@
+// The pipeline planner (passes/planner.h): the path tracer's declared light paths are the sets
+// its settings promise, the built-in pipelines partition the paths they claim, overlaps and
+// missing products are refused, the scene analysis skips what a scene does not need and names
+// the paths nobody counts, and the composite is the exact sum of the contributions.
+#include "passes/planner.h"
+#include "core/light_paths.h"
+#include "passes/composite.h"
+#include "passes/path_pass.h"
+#include "passes/pipeline.h"
+#include "passes/radiosity_pass.h"
+#include "tests/radiosity_scenes.h"
+
+#include <gtest/gtest.h>
+
+namespace penumbra {
+namespace {
+
+const PathSet kAll = PathSet::parse("L(D|S)*E");
+const PathSet kCaustics = PathSet::parse("L S+ D S* E");
+
+bool sameSet(const PathSet& a, const PathSet& b) {
+    return (a - b).empty() && (b - a).empty();
+}
+
+PathTracerSettings tracer(bool reuse, bool exclude) {
+    PathTracerSettings s;
+    s.reuseRadiosity = reuse;
+    s.excludeCaustics = exclude;
+    return s;
+}
+
+// The declarations are hand-written regular expressions; here they are checked against the sets
+// they stand for, built from the definitions by set algebra.
+TEST(Planner, PathTracerDeclarationsAreTheSetsTheyStandFor) {
+    EXPECT_TRUE(sameSet(PathSet::parse(pathTracerLightPaths(tracer(false, false))), kAll));
+    EXPECT_TRUE(
+        sameSet(PathSet::parse(pathTracerLightPaths(tracer(false, true))), kAll - kCaustics));
+    // Radiosity reuse: everything except the paths whose light part (before the eye's second
+    // diffuse vertex) holds a specular vertex, i.e. L (D|S)* S (D|S)* D S* D S* E with the S
+    // before the second-to-last D.
+    const PathSet lostToRadiosity = PathSet::parse("L (D|S)* S (D|S)* D S* D S* E");
+    const PathSet reuse = PathSet::parse(pathTracerLightPaths(tracer(true, false)));
+    EXPECT_TRUE(sameSet(reuse, kAll - lostToRadiosity));
+    EXPECT_TRUE(
+        sameSet(PathSet::parse(pathTracerLightPaths(tracer(true, true))), reuse - kCaustics));
+}
+
+// A stand-in for a pass the registry does not have yet, with a declared set of paths.
+class DeclaredPass : public Pass {
+  public:
+    DeclaredPass(std::string type, std::string paths) : type_(type), paths_(paths) {}
+    std::string type() const override { return type_; }
+    std::string lightPaths() const override { return paths_; }
+    std::set<std::string> products() const override {
+        return type_ == "caustics" ? std::set<std::string>{"caustics"} : std::set<std::string>{};
+    }
+    void prepare(PassContext&) override {}
+    bool run(PassContext&) override { return true; }
+    PassStats stats() const override { return {}; }
+
+  private:
+    std::string type_, paths_;
+};
+
+Pipeline hybridWithCaustics(PathPass::Caustics caustics) {
+    std::vector<std::unique_ptr<Pass>> passes;
+    passes.push_back(std::make_unique<RadiosityPass>(RadiositySettings{}));
+    passes.push_back(std::make_unique<PathPass>(tracer(true, false), caustics));
+    passes.push_back(std::make_unique<DeclaredPass>("caustics", "L S+ D S* E"));
+    return Pipeline("hybrid", std::move(passes));
+}
+
+TEST(Planner, HybridLeavesCausticsToTheCausticPassAndNamesIndirectCaustics) {
+    Pipeline pipeline = hybridWithCaustics(PathPass::Caustics::Auto);
+    ASSERT_FALSE(checkPipeline(pipeline).has_value());
+    // The radiosity solution is reused: no image of its own; the path pass left caustics out.
+    EXPECT_EQ(pipeline.passes()[0]->lightPaths(), "");
+    EXPECT_EQ(pipeline.passes()[1]->lightPaths(), pathTracerLightPaths(tracer(true, true)));
+
+    const PipelinePlan plan = planForScene(pipeline, SceneContents{true, true, 1, 0});
+    EXPECT_EQ(plan.universe, "L(D|S)*E");
+    ASSERT_EQ(plan.warnings.size(), 1u);
+    EXPECT_NE(plan.warnings[0].find("L S D D E, L D S D D E, L S D D D E"), std::string::npos)
+        << plan.warnings[0];
+    for (size_t i = 0; i < 3; ++i)
+        EXPECT_FALSE(pipeline.skipped(i));
+}
+
+TEST(Planner, RefusesCausticsCountedTwice) {
+    Pipeline pipeline = hybridWithCaustics(PathPass::Caustics::Include);
+    const auto problem = checkPipeline(pipeline);
+    ASSERT_TRUE(problem.has_value());
+    EXPECT_EQ(problem->pass, 2u);
+    EXPECT_NE(problem->message.find("both count the light paths L S D E, L S D S E, L S S D E"),
+              std::string::npos)
+        << problem->message;
+}
+
+TEST(Planner, SkipsWhatTheSceneDoesNotNeed) {
+    // No specular surface: no caustic pass, and nothing is missing (the universe is L D* E).
+    Pipeline diffuseOnly = hybridWithCaustics(PathPass::Caustics::Auto);
+    ASSERT_FALSE(checkPipeline(diffuseOnly).has_value());
+    const PipelinePlan plan = planForScene(diffuseOnly, SceneContents{true, false, 0, 2});
+    EXPECT_EQ(plan.universe, "LD*E");
+    EXPECT_TRUE(diffuseOnly.skipped(2));
+    EXPECT_FALSE(diffuseOnly.skipped(0));
+    EXPECT_TRUE(plan.warnings.empty()) << plan.warnings.front();
+    bool punctualNoted = false, causticsNoted = false;
+    for (const std::string& d : plan.decisions) {
+        punctualNoted = punctualNoted || d.find("2 punctual, no emissive surface") != d.npos;
+        causticsNoted = causticsNoted || d.find(
+                                             "(caustics): skipped: no surface has a "
+                                             "specular lobe") != d.npos;
+    }
+    EXPECT_TRUE(punctualNoted);
+    EXPECT_TRUE(causticsNoted);
+
+    // Only mirrors: the reused radiosity solution would be zero.
+    Pipeline mirrorsOnly = hybridWithCaustics(PathPass::Caustics::Auto);
+    ASSERT_FALSE(checkPipeline(mirrorsOnly).has_value());
+    planForScene(mirrorsOnly, SceneContents{false, true, 1, 0});
+    EXPECT_TRUE(mirrorsOnly.skipped(0));
+    EXPECT_FALSE(mirrorsOnly.skipped(2));
+}
+
+TEST(Planner, WarnsOfAPipelineThatLeavesPathsOut) {
+    std::vector<std::unique_ptr<Pass>> passes;
+    passes.push_back(std::make_unique<DeclaredPass>("caustics", "L S+ D S* E"));
+    Pipeline pipeline("caustics only", std::move(passes));
+    ASSERT_FALSE(checkPipeline(pipeline).has_value());
+    const PipelinePlan plan = planForScene(pipeline, SceneContents{true, true, 1, 0});
+    ASSERT_EQ(plan.warnings.size(), 1u);
+    EXPECT_NE(plan.warnings[0].find("no pass counts the light paths L E, L D E, L S E"),
+              std::string::npos)
+        << plan.warnings[0];
+}
+
+TEST(Planner, AnalysisFindsDiffuseAndSpecularSurfaces) {
+    test::GltfBuilder builder;
+    const int wall = builder.addMaterial({});
+    test::addClosedBox(builder, wall, wall);
+    test::addCeilingLight(builder, 0.2f, 0.99f, 5.0f);
+    const auto diffuse = test::loadBuiltScene(builder, "planner_diffuse");
+    const SceneContents a = analyseScene(*diffuse);
+    EXPECT_TRUE(a.diffuse);
+    EXPECT_FALSE(a.specular);
+    EXPECT_EQ(a.areaLights, 2u);  // the light's two triangles
+    EXPECT_EQ(a.punctualLights, 0u);
+
+    test::TestMaterial mirror;
+    mirror.metallic = 1.0f;
+    mirror.roughness = 0.0f;
+    mirror.lambertian = false;
+    test::addFloorBlock(builder, builder.addMaterial(mirror));
+    const auto withMirror = test::loadBuiltScene(builder, "planner_mirror");
+    EXPECT_TRUE(analyseScene(*withMirror).specular);
+}
+
+TEST(Planner, CompositeIsTheExactSumOfTheContributions) {
+    RenderSettings settings;
+    settings.width = 3;
+    settings.height = 2;
+    const CameraDesc cameraDesc{};
+    const Camera camera(cameraDesc, 3, 2);
+    test::GltfBuilder builder;
+    builder.addMaterial({});
+    test::addCeilingLight(builder, 0.2f, 0.99f, 5.0f);
+    const auto loaded = test::loadBuiltScene(builder, "planner_composite");
+    PassContext context(*loaded, camera, settings);
+    Image a(3, 2, {"R", "G", "B"}), b(3, 2, {"R", "G", "B"});
+    for (size_t i = 0; i < a.pixels().size(); ++i) {
+        a.pixels()[i] = 0.1f * static_cast<float>(i);
+        b.pixels()[i] = 1e-3f + static_cast<float>(i * i);
+    }
+    context.contribute("path", a);
+    context.contribute("caustics", b);
+    CompositePass composite;
+    composite.prepare(context);
+    ASSERT_TRUE(composite.run(context));
+    const Image& beauty = context.layers.at("beauty");
+    for (size_t i = 0; i < a.pixels().size(); ++i)
+        EXPECT_EQ(beauty.pixels()[i], a.pixels()[i] + b.pixels()[i]);
+    EXPECT_EQ(composite.stats().front().second, "path + caustics");
+}
+
+}  // namespace
+}  // namespace penumbra
