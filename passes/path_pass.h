@@ -7,17 +7,12 @@
 // requested AOVs.
 #pragma once
 
-#include "core/pass.h"
-#include "core/progress.h"
-#include "raytrace/image_renderer.h"
+#include "passes/sampling_pass.h"
 #include "raytrace/path_tracer.h"
-
-#include <chrono>
-#include <memory>
 
 namespace penumbra {
 
-class PathPass : public Pass {
+class PathPass : public SamplingPass {
   public:
     // Whether caustic paths (L S+ D S* E) are counted: Auto leaves them out exactly when the
     // pipeline has a caustic pass.
@@ -31,22 +26,16 @@ class PathPass : public Pass {
     std::set<std::string> needs() const override;
     void adapt(const PipelineShape& shape) override;
     PassStats parameters() const override;
-    void prepare(PassContext& context) override;
-    bool run(PassContext& context) override;
-    PassStats stats() const override;
+
+  protected:
+    RadianceEstimator makeEstimator(PassContext& context) override;
+    std::string activity() const override { return "path tracing"; }
 
   private:
-    void publish(PassContext& context) const;
-
     PathTracerSettings settings_;
     Caustics caustics_;
     std::shared_ptr<const RadiositySolution> radiosity_;
     std::unique_ptr<PathTracer> tracer_;
-    std::unique_ptr<ImageRenderer> renderer_;
-    std::unique_ptr<Progress> progress_;
-    std::chrono::steady_clock::time_point start_;
-    double lastPassSeconds_ = 0.0;
-    double seconds_ = 0.0;
 };
 
 }  // namespace penumbra

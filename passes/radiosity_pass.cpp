@@ -2,6 +2,7 @@
 
 #include "core/material.h"
 #include "core/stats.h"
+#include "raytrace/tracing_steps.h"
 
 namespace penumbra {
 
@@ -62,13 +63,8 @@ Color RadiosityPass::Li(Ray ray, FirstHit* firstHit, PathCounters& counters) con
             return Color(0.0f);
         const bool front = hit->frontFace(ray.d);
         if (mesh_->locate(hit->mesh, hit->triangle, hit->barycentric).element >= 0) {
-            if (firstHit && !firstHit->valid) {
-                firstHit->valid = true;
-                firstHit->albedo =
-                    evaluateMaterial(scene_->material(*hit), scene_->textures(), hit->uv).baseColor;
-                firstHit->normal = scene_->bsdf(*hit).shadingNormal();
-                firstHit->depth = glm::distance(hit->p, cameraOrigin);
-            }
+            if (firstHit && !firstHit->valid)
+                recordFirstHit(*scene_, *hit, scene_->bsdf(*hit), cameraOrigin, firstHit);
             return beta *
                    solution_->radiance(hit->mesh, hit->triangle, hit->barycentric, true, front);
         }

@@ -3,6 +3,7 @@
 // this file, the pass's own files and a test.
 #include "core/errors.h"
 #include "passes/composite.h"
+#include "passes/distribution_pass.h"
 #include "passes/path_pass.h"
 #include "passes/pipeline.h"
 #include "passes/planner.h"
@@ -32,6 +33,15 @@ const std::vector<std::pair<std::string, PresetFactory>>& presets() {
          [](const RenderSettings&) {
              std::vector<std::unique_ptr<Pass>> passes;
              passes.push_back(std::make_unique<RadiosityPass>(RadiositySettings{}));
+             return passes;
+         }},
+        // The seed's two-pass method: an indirect-only radiosity solution as the ambient term
+        // of distribution ray tracing.
+        {"distribution",
+         [](const RenderSettings&) {
+             std::vector<std::unique_ptr<Pass>> passes;
+             passes.push_back(std::make_unique<RadiosityPass>(RadiositySettings{}));
+             passes.push_back(std::make_unique<DistributionPass>(DistributionSettings{}));
              return passes;
          }},
         // The seed's three-pass method: radiosity, then path tracing that takes the solution at
@@ -138,6 +148,14 @@ std::unique_ptr<Pass> pathPass(const ScriptTable& p, const PassOverrides& overri
     throw p.error("caustics", "unknown value '" + caustics + "'; valid: auto, include, exclude");
 }
 
+// The distribution ray-tracing pass (the `distribution` pipeline's).
+std::unique_ptr<Pass> distributionPass(const ScriptTable& p, const PassOverrides&) {
+    DistributionSettings settings;
+    settings.maxSpecularDepth =
+        p.get("max_specular_depth", settings.maxSpecularDepth, 0, kMaxDepthLimit);
+    return std::make_unique<DistributionPass>(settings);
+}
+
 // The composite: sums the contributions so far into the beauty; no parameters.
 std::unique_ptr<Pass> compositePass(const ScriptTable&, const PassOverrides&) {
     return std::make_unique<CompositePass>();
@@ -150,6 +168,7 @@ const std::vector<std::pair<std::string, PassFactory>>& passTypes() {
     static const std::vector<std::pair<std::string, PassFactory>> table = {
         {"radiosity", radiosityPass},
         {"path", pathPass},
+        {"distribution", distributionPass},
         {"composite", compositePass},
     };
     return table;
@@ -157,7 +176,7 @@ const std::vector<std::pair<std::string, PassFactory>>& passTypes() {
 
 // Pass types of the hybrid pipeline that do not exist yet: named in messages as such rather than
 // as unknown words.
-const std::vector<std::string> kPlannedPassTypes = {"distribution", "caustics"};
+const std::vector<std::string> kPlannedPassTypes = {"caustics"};
 
 std::string joined(const std::vector<std::string>& names) {
     std::string text;

@@ -1,6 +1,7 @@
 // What a radiosity solver hands to the passes that show or reuse its solution, whatever the
 // method (hierarchical, progressive): the radiance leaving every meshed surface point on either
-// side, and the solver's figures for the log.
+// side, its indirect part (without the first reflection of the light sources), and the solver's
+// figures for the log.
 #pragma once
 
 #include "core/math.h"
@@ -21,6 +22,16 @@ class RadiositySolution {
     // the solver's mesh does not hold.
     virtual Color radiance(uint32_t mesh, uint32_t triangle, Vec3 b, bool includeEmission,
                            bool front = true) const = 0;
+    // The indirect-only solution of the two-pass methods (Wallace, Cohen and Greenberg 1987, "A
+    // Two-Pass Solution to the Rendering Equation", SIGGRAPH '87; Sillion and Puech 1989): the part
+    // of radiance(mesh, triangle, b, false, front) that light paths L D D+ E ending there carry,
+    // i.e. the reflected radiance less the first reflection of the sources' light (of the
+    // emissive surfaces and of the punctual lights), which a ray tracer adds back itself with
+    // shadow rays: the ambient term of distribution ray tracing (the seed's two-pass method).
+    // Radiance in cd/m², Gouraud-interpolated like radiance(), never negative; zero on a triangle
+    // the solver's mesh does not hold.
+    virtual Color indirectRadiance(uint32_t mesh, uint32_t triangle, Vec3 b,
+                                   bool front = true) const = 0;
     // Counters and timings, in the order they should be printed.
     virtual PassStats stats() const = 0;
 };

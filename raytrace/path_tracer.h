@@ -65,11 +65,6 @@ class PathTracer {
     Color Li(Ray ray, Sampler& sampler, FirstHit* firstHit, PathCounters& counters) const;
 
   private:
-    // Next-event estimate at a non-delta vertex: one light chosen by power, one point on it,
-    // weighted by the power heuristic against BSDF sampling.
-    Color sampleDirectLight(const SurfaceHit& hit, const Bsdf& bsdf, const Vec3& wo,
-                            Sampler& sampler, PathCounters& counters) const;
-
     const Scene& scene_;
     PathTracerSettings settings_;
     const RadiositySolution* radiosity_;

@@ -196,13 +196,14 @@ TEST_F(PassScriptTest, OutOfRange) {
 
 TEST_F(PassScriptTest, PassTypes) {
     EXPECT_EQ(firstLine(error(kScene + "[[pass]]\ntype = \"photon\"\n")),
-              "3:8: pass[0].type: unknown pass type 'photon'; valid: radiosity, path, composite "
-              "(planned: distribution, caustics)");
+              "3:8: pass[0].type: unknown pass type 'photon'; valid: radiosity, path, "
+              "distribution, composite (planned: caustics)");
     EXPECT_EQ(firstLine(error(kScene + "[[pass]]\ntype = \"caustics\"\n")),
               "3:8: pass[0].type: pass type 'caustics' is not implemented yet; implemented: "
-              "radiosity, path, composite");
+              "radiosity, path, distribution, composite");
     EXPECT_EQ(firstLine(error(kScene + "\n[[pass]]\nepsilon = 0.1\n")),
-              "3:1: pass[0].type: missing; valid pass types: radiosity, path, composite");
+              "3:1: pass[0].type: missing; valid pass types: radiosity, path, distribution, "
+              "composite");
 }
 
 // The planner's checks (passes/planner.h) reach the script's author at the offending table.

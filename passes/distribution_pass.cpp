@@ -1,0 +1,20 @@
+#include "passes/distribution_pass.h"
+
+#include "radiosity/radiosity_solution.h"
+
+namespace penumbra {
+
+PassStats DistributionPass::parameters() const {
+    return {{"max_specular_depth", std::to_string(settings_.maxSpecularDepth)}};
+}
+
+RadianceEstimator DistributionPass::makeEstimator(PassContext& context) {
+    radiosity_ = context.product<RadiositySolution>("radiosity");
+    tracer_ = std::make_unique<DistributionTracer>(context.scene, settings_, radiosity_.get());
+    return [tracer = tracer_.get()](const Ray& ray, Sampler& sampler, FirstHit* firstHit,
+                                    PathCounters& counters) {
+        return tracer->Li(ray, sampler, firstHit, counters);
+    };
+}
+
+}  // namespace penumbra

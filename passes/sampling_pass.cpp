@@ -1,0 +1,61 @@
+#include "passes/sampling_pass.h"
+
+#include "core/stats.h"
+
+#include <sstream>
+
+namespace penumbra {
+
+void SamplingPass::prepare(PassContext& context) {
+    renderer_ =
+        std::make_unique<ImageRenderer>(context.camera, context.settings, makeEstimator(context));
+    const RenderSettings& s = context.settings;
+    // With a time limit the bar measures time (in milliseconds), else samples.
+    const uint64_t total = s.timeLimit > 0.0 ? static_cast<uint64_t>(s.timeLimit * 1000.0)
+                                             : static_cast<uint64_t>(s.spp);
+    progress_ = std::make_unique<Progress>(activity(), total, s.quiet);
+    start_ = std::chrono::steady_clock::now();
+}
+
+bool SamplingPass::run(PassContext& context) {
+    const RenderSettings& s = context.settings;
+    const auto passStart = std::chrono::steady_clock::now();
+    renderer_->renderSamplePass();
+    lastPassSeconds_ = secondsSince(passStart);
+    seconds_ = secondsSince(start_);
+
+    bool done = renderer_->samplesDone() >= s.spp;
+    if (s.timeLimit > 0.0) {
+        // Stop at whole passes: before a pass that would end past the limit.
+        done = done || seconds_ + lastPassSeconds_ > s.timeLimit;
+        progress_->advance(static_cast<uint64_t>(std::min(seconds_, s.timeLimit) * 1000.0) -
+                           progress_->done());
+    } else {
+        progress_->advance(1);
+    }
+    if (!done)
+        return false;
+    progress_->finish();
+    context.contribute(type(), renderer_->film().resolve());
+    const auto& aovs = renderer_->aovNames();
+    for (size_t a = 0; a < aovs.size(); ++a)
+        context.layers[aovs[a]] = renderer_->film().resolveAov(static_cast<int>(a));
+    return true;
+}
+
+PassStats SamplingPass::stats() const {
+    const double seconds = seconds_ > 0.0 ? seconds_ : 1e-9;
+    std::ostringstream raysPerSecond;
+    raysPerSecond.precision(4);
+    raysPerSecond << static_cast<double>(renderer_->rays()) / seconds;
+    PassStats stats = parameters();
+    const PassStats figures = {{"spp", std::to_string(renderer_->samplesDone())},
+                               {"seconds", std::to_string(seconds_)},
+                               {"rays", std::to_string(renderer_->rays())},
+                               {"rays_per_second", raysPerSecond.str()},
+                               {"dropped_samples", std::to_string(renderer_->droppedSamples())}};
+    stats.insert(stats.end(), figures.begin(), figures.end());
+    return stats;
+}
+
+}  // namespace penumbra

@@ -1,0 +1,50 @@
+// Distribution ray tracing (Cook, Porter and Carpenter 1984, "Distributed Ray Tracing") with the
+// radiosity ambient term of the seed's two-pass method: the fast preview for architecture.
+//
+// From the eye, a ray is followed through specular vertices (mirror reflection and refraction,
+// one lobe chosen per sample, up to maxSpecularDepth of them; thin glass is passed straight
+// through). At the first vertex with a non-delta lobe (diffuse or rough glossy) it takes
+// - the direct light of every light type by next-event estimation, area lights sampled over
+//   their area so that shadows are soft over the samples of a pixel, glossy highlights included;
+// - the indirect-only radiosity solution there as the ambient term: the light of the Lambertian
+//   layer reflected from every diffuse bounce but the first (L D D+), the direct part being the
+//   line above;
+// and continues only through that vertex's specular lobes, if it has any. Emission is counted
+// where a ray from the eye or a specular chain meets it.
+//
+// Light paths: L S* E | L D S* E | L D D+ S* E. Left out: caustics (L S+ D ...), diffuse light
+// reaching the visible surface through mirrors (L D+ S+ D ...), and the indirect light reflected
+// by glossy lobes (the radiosity solution holds the Lambertian layers only): see
+// docs/light-paths.md.
+#pragma once
+
+#include "raytrace/path_tracer.h"
+
+namespace penumbra {
+
+class RadiositySolution;
+class Sampler;
+
+struct DistributionSettings {
+    int maxSpecularDepth = 16;  // specular vertices followed from the eye
+};
+
+std::string distributionLightPaths();
+
+class DistributionTracer {
+  public:
+    // indirect: the radiosity solution to take the ambient term from; null = no ambient term
+    // (a scene the planner found without diffuse surfaces).
+    DistributionTracer(const Scene& scene, const DistributionSettings& settings,
+                       const RadiositySolution* indirect);
+
+    // Radiance (cd/m²) arriving along -ray.d at the ray's origin (contract of PathTracer::Li).
+    Color Li(Ray ray, Sampler& sampler, FirstHit* firstHit, PathCounters& counters) const;
+
+  private:
+    const Scene& scene_;
+    DistributionSettings settings_;
+    const RadiositySolution* indirect_;
+};
+
+}  // namespace penumbra
