@@ -7,16 +7,14 @@
 #include "core/image_io.h"
 #include "core/scene.h"
 #include "tests/cli_runner.h"
+#include "tests/region_means.h"
 
 #include <gtest/gtest.h>
 
-#include <array>
 #include <cmath>
 #include <cstdio>
 #include <iostream>
-#include <map>
 #include <string>
-#include <vector>
 
 namespace penumbra::test {
 namespace {
@@ -24,54 +22,11 @@ namespace {
 const std::string kSceneFolder = std::string(PENUMBRA_SOURCE_DIR) + "/scenes/cornell-box";
 constexpr int kSize = 128;  // the stored reference's size
 
-// Per pixel: the scene mesh (one per wall and block face in this scene) seen through the whole
-// pixel, or -1 where the pixel straddles an edge or sees nothing. A pixel counts for a region only
-// when its centre and its four corners all see the same mesh, so that the box filter's average
-// over the pixel belongs to one face in both images.
-std::vector<int> regionMask(const Scene& scene, const Camera& camera) {
-    std::vector<int> mask(kSize * kSize, -1);
-    const std::array<Vec2, 5> offsets = {Vec2{0.5f, 0.5f}, Vec2{0.0f, 0.0f}, Vec2{1.0f, 0.0f},
-                                         Vec2{0.0f, 1.0f}, Vec2{1.0f, 1.0f}};
-    for (int y = 0; y < kSize; ++y) {
-        for (int x = 0; x < kSize; ++x) {
-            int region = -2;
-            for (const Vec2& o : offsets) {
-                const auto hit = scene.intersect(camera.generateRay(Vec2(x, y) + o));
-                const int mesh = hit ? static_cast<int>(hit->mesh) : -1;
-                region = (region == -2 || region == mesh) ? mesh : -1;
-            }
-            mask[y * kSize + x] = region;
-        }
-    }
-    return mask;
-}
-
-struct RegionMeans {
-    std::map<int, std::array<double, 3>> sums;
-    std::map<int, int> pixels;
-};
-
-RegionMeans regionMeans(const Image& image, const std::vector<int>& mask) {
-    RegionMeans means;
-    for (int y = 0; y < kSize; ++y) {
-        for (int x = 0; x < kSize; ++x) {
-            const int region = mask[y * kSize + x];
-            if (region < 0)
-                continue;
-            auto& sum = means.sums[region];
-            for (int c = 0; c < 3; ++c)
-                sum[c] += image.at(x, y, c);
-            ++means.pixels[region];
-        }
-    }
-    return means;
-}
-
 TEST(RadiosityCornellBox, EveryWallAndBlockFaceAgreesWithTheReference) {
     const Scene scene(loadGltf(kSceneFolder + "/cornell-box.gltf"));
     const CameraDesc cameraDesc = chooseCamera(scene.description().cameras, "", scene.bounds());
     const Camera camera(cameraDesc, kSize, kSize);
-    const std::vector<int> mask = regionMask(scene, camera);
+    const std::vector<int> mask = regionMask(scene, camera, kSize, kSize);
 
     TempDir dir("radiosity-cornell");
     const std::string out = dir.file("radiosity.exr");
@@ -102,8 +57,8 @@ TEST(RadiosityCornellBox, EveryWallAndBlockFaceAgreesWithTheReference) {
             continue;
         ++regions;
         for (int c = 0; c < 3; ++c) {
-            const double radiosityMean = r.sums.at(mesh)[c] / pixels;
-            const double referenceMean = p.sums.at(mesh)[c] / pixels;
+            const double radiosityMean = r.mean(mesh, c);
+            const double referenceMean = p.mean(mesh, c);
             const double ratio = radiosityMean / referenceMean;
             std::printf(
                 "%-16s channel %d  pixels %5d  radiosity %9.4f  reference %9.4f  ratio %.4f\n",

@@ -1,0 +1,39 @@
+#include "tests/region_means.h"
+
+namespace penumbra::test {
+
+std::vector<int> regionMask(const Scene& scene, const Camera& camera, int width, int height) {
+    std::vector<int> mask(static_cast<size_t>(width) * height, -1);
+    const std::array<Vec2, 5> offsets = {Vec2{0.5f, 0.5f}, Vec2{0.0f, 0.0f}, Vec2{1.0f, 0.0f},
+                                         Vec2{0.0f, 1.0f}, Vec2{1.0f, 1.0f}};
+    for (int y = 0; y < height; ++y) {
+        for (int x = 0; x < width; ++x) {
+            int region = -2;
+            for (const Vec2& o : offsets) {
+                const auto hit = scene.intersect(camera.generateRay(Vec2(x, y) + o));
+                const int mesh = hit ? static_cast<int>(hit->mesh) : -1;
+                region = (region == -2 || region == mesh) ? mesh : -1;
+            }
+            mask[static_cast<size_t>(y) * width + x] = region;
+        }
+    }
+    return mask;
+}
+
+RegionMeans regionMeans(const Image& image, const std::vector<int>& mask) {
+    RegionMeans means;
+    for (int y = 0; y < image.height(); ++y) {
+        for (int x = 0; x < image.width(); ++x) {
+            const int region = mask[static_cast<size_t>(y) * image.width() + x];
+            if (region < 0)
+                continue;
+            auto& sum = means.sums[region];
+            for (int c = 0; c < 3; ++c)
+                sum[c] += image.at(x, y, c);
+            ++means.pixels[region];
+        }
+    }
+    return means;
+}
+
+}  // namespace penumbra::test
