@@ -37,6 +37,8 @@ inline CLI::Validator atLeast(int minimum) {
 Command addRenderCommand(CLI::App& app);
 Command addInfoCommand(CLI::App& app);
 Command addBakeCommand(CLI::App& app);
+Command addPlanCommand(CLI::App& app);
 StatusCommand addDiffCommand(CLI::App& app);
+StatusCommand addBenchCommand(CLI::App& app);
 
 }  // namespace penumbra::cli

@@ -19,7 +19,9 @@ int main(int argc, char** argv) {
     penumbra::cli::Command render = penumbra::cli::addRenderCommand(app);
     penumbra::cli::Command info = penumbra::cli::addInfoCommand(app);
     penumbra::cli::Command bake = penumbra::cli::addBakeCommand(app);
+    penumbra::cli::Command plan = penumbra::cli::addPlanCommand(app);
     penumbra::cli::StatusCommand diff = penumbra::cli::addDiffCommand(app);
+    penumbra::cli::StatusCommand bench = penumbra::cli::addBenchCommand(app);
 
     try {
         app.parse(argc, argv);
@@ -35,8 +37,12 @@ int main(int argc, char** argv) {
             info();
         if (app.got_subcommand("bake"))
             bake();
+        if (app.got_subcommand("plan"))
+            plan();
         if (app.got_subcommand("diff"))
             return diff();
+        if (app.got_subcommand("bench"))
+            return bench();
     } catch (const penumbra::InputError& e) {
         std::cerr << "penumbra: error: " << e.what() << "\n";
         return 2;

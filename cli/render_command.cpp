@@ -1,17 +1,17 @@
 // `penumbra render SCENE -o OUT`: renders a scene with a pipeline and writes the image.
 #include "cli/commands.h"
+#include "cli/pipeline_run.h"
 #include "cli/scene_input.h"
 #include "core/errors.h"
 #include "core/film.h"
 #include "core/image_io.h"
+#include "core/stats.h"
 #include "core/tonemap.h"
-#include "core/version.h"
 #include "passes/pipeline.h"
+#include "passes/planner.h"
 #include "raytrace/image_renderer.h"
 
-#include <tbb/global_control.h>
-#include <tbb/info.h>
-
+#include <algorithm>
 #include <chrono>
 #include <iostream>
 #include <optional>
@@ -91,6 +91,10 @@ void render(RenderOptions& options) {
     if (options.outputs.empty())
         throw UsageError("--output is required (a pass script may give `output` instead)");
     settings.aovs = splitList(options.aovList);
+    // Adaptive sampling records what it did: the samples each pixel took.
+    if (settings.noiseThreshold > 0.0f &&
+        std::find(settings.aovs.begin(), settings.aovs.end(), "spp") == settings.aovs.end())
+        settings.aovs.push_back("spp");
     // Refuse bad outputs and option values before spending time on loading and rendering.
     for (const std::string& output : options.outputs)
         checkOutputPath(output);
@@ -111,38 +115,35 @@ void render(RenderOptions& options) {
     settings.height = size.y;
     const Camera camera(cameraDesc, size.x, size.y);
 
-    const int threads = settings.threads > 0 ? settings.threads : tbb::info::default_concurrency();
-    tbb::global_control parallelism(tbb::global_control::max_allowed_parallelism, threads);
-    PassContext context(*scene, camera, settings);
-    pipeline.run(context);
-    const double seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const PipelinePlan plan = planForScene(pipeline, analyseScene(*scene));
+    for (const std::string& warning : plan.warnings)
+        std::cerr << "penumbra: warning: " << warning << "\n";
+    if (!settings.quiet) {
+        for (const std::string& decision : plan.decisions)
+            std::cerr << "penumbra: plan: " << decision << "\n";
+    }
 
-    ImageMetadata metadata;
-    metadata.set("penumbra:version", std::string(kVersion));
-    metadata.set("penumbra:pipeline", pipeline.name());
-    metadata.set("penumbra:seed", static_cast<int>(settings.seed));
-    metadata.set("penumbra:seconds", static_cast<float>(seconds));
-    metadata.set("penumbra:scene", options.scene.path);
-    metadata.set("penumbra:camera", cameraDesc.name);
-    metadata.set("penumbra:filter", settings.filter);
+    PipelineRun run = runPipeline(pipeline, *scene, camera, settings);
+    const double seconds = secondsSince(start);
+
+    ImageMetadata metadata =
+        renderMetadata(pipeline, settings, seconds, options.scene.path, cameraDesc.name);
     // A script's passes record their own depth (penumbra:path.max_depth).
     if (script)
         metadata.set("penumbra:script", script->file);
     else
         metadata.set("penumbra:max_depth", settings.maxDepth);
-    for (const auto& pass : pipeline.passes()) {
-        for (const auto& [key, value] : pass->stats()) {
-            metadata.set("penumbra:" + pass->type() + "." + key, value);
-            if (key == "spp")
-                metadata.set("penumbra:spp", std::stoi(value));
-        }
-    }
+    // Each pass's contribution is a layer of its own when there are several (they sum to the
+    // beauty), then the AOVs.
     std::vector<NamedLayer> aovs;
+    if (run.contributions.size() > 1) {
+        for (const std::string& name : run.contributions)
+            aovs.push_back({name, run.layers.at(name)});
+    }
     for (const std::string& name : settings.aovs)
-        aovs.push_back({name, context.layers.at(name)});
+        aovs.push_back({name, run.layers.at(name)});
     for (const std::string& output : options.outputs) {
-        writeImage(output, context.layers.at("beauty"), aovs, metadata, toneMapping);
+        writeImage(output, run.layers.at("beauty"), aovs, metadata, toneMapping);
     }
 
     if (!settings.quiet) {
@@ -150,10 +151,12 @@ void render(RenderOptions& options) {
             std::cerr << "penumbra: wrote " << output << "\n";
         std::cerr << "penumbra: " << size.x << "x" << size.y << ", pipeline " << pipeline.name()
                   << ", " << seconds << " s\n";
-        for (const auto& pass : pipeline.passes()) {
-            for (const auto& [key, value] : pass->stats()) {
-                std::cerr << "  " << pass->type() << " " << key << ": " << value << "\n";
-            }
+        for (size_t i = 0; i < pipeline.passes().size(); ++i) {
+            if (pipeline.skipped(i))
+                continue;
+            const Pass& pass = *pipeline.passes()[i];
+            for (const auto& [key, value] : pass.stats())
+                std::cerr << "  " << pass.type() << " " << key << ": " << value << "\n";
         }
     }
 }
@@ -213,8 +216,14 @@ Command addRenderCommand(CLI::App& app) {
         ->add_option("--tonemap", options->tonemap,
                      "Tone-mapping operator for 8-bit output: clamp, reinhard, aces")
         ->capture_default_str();
+    command
+        ->add_option("--noise-threshold", s.noiseThreshold,
+                     "Adaptive sampling: a pixel stops taking samples once the standard error of "
+                     "its mean luminance is below this fraction of the mean (after 16 samples); "
+                     "0 = off. Adds the `spp` layer")
+        ->check(CLI::Range(0.0f, 1.0f));
     command->add_option("--aov", options->aovList,
-                        "Extra EXR layers, comma separated: albedo,normal,depth");
+                        "Extra EXR layers, comma separated: albedo,normal,depth,spp");
     return [options] { render(*options); };
 }
 

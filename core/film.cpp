@@ -6,6 +6,7 @@
 #include <cassert>
 #include <cmath>
 #include <initializer_list>
+#include <limits>
 #include <stdexcept>
 
 namespace penumbra {
@@ -151,7 +152,30 @@ void Film::addSample(IVec2 pixel, const Color& L, float weight) {
         sum.rgb[c] += double(weight) * double(L[c]);
     }
     sum.weight += weight;
+    const double y = luminance(L);
+    sum.luminance += y;
+    sum.luminanceSquared += y * y;
     sum.count++;
+}
+
+float Film::relativeStandardError(IVec2 pixel) const {
+    const PixelSum& sum = pixels_[index(pixel)];
+    if (sum.count < 2)
+        return std::numeric_limits<float>::infinity();
+    const double n = sum.count;
+    const double mean = sum.luminance / n;
+    const double variance =
+        std::max(0.0, (sum.luminanceSquared - mean * sum.luminance) / (n - 1.0));
+    return float(std::sqrt(variance / n) / std::max(mean, kNoiseFloor));
+}
+
+Image Film::resolveSampleCounts() const {
+    Image image(width_, height_, {"N"});
+    for (int y = 0; y < height_; ++y) {
+        for (int x = 0; x < width_; ++x)
+            image.at(x, y, 0) = float(pixels_[index({x, y})].count);
+    }
+    return image;
 }
 
 void Film::addAov(IVec2 pixel, int aov, const Vec3& value) {

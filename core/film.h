@@ -83,6 +83,16 @@ class Film {
 
     // Samples added to (and not dropped from) `pixel`.
     uint32_t sampleCount(IVec2 pixel) const { return pixels_[index(pixel)].count; }
+    // The pixel's error estimate for adaptive sampling: the standard error of its mean luminance,
+    // sqrt(s² / n) with s² the unbiased sample variance of the n samples' luminance, relative to
+    // max(mean luminance, kNoiseFloor). Infinite below two samples.
+    float relativeStandardError(IVec2 pixel) const;
+    // Luminance (cd/m²) below which the error counts as relative to this floor instead: as the
+    // epsilon of relative MSE (core/image_metrics.h), it keeps black pixels from needing ever more
+    // samples for a vanishing error.
+    static constexpr double kNoiseFloor = 1e-2;
+    // Samples per pixel, one channel "N".
+    Image resolveSampleCounts() const;
     // Radiance samples and AOV values dropped for being non-finite, over the whole film.
     uint64_t droppedSamples() const;
 
@@ -96,6 +106,7 @@ class Film {
     struct PixelSum {
         double rgb[3] = {0.0, 0.0, 0.0};
         double weight = 0.0;
+        double luminance = 0.0, luminanceSquared = 0.0;  // moments for the error estimate
         uint32_t count = 0;
         uint32_t dropped = 0;  // per pixel, so counting needs no synchronisation either
     };

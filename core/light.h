@@ -35,6 +35,32 @@ struct LightLiSample {
     Vec3 pLightError{0.0f};
 };
 
+// A ray leaving a light, for tracing photons (pbrt-v4's Light::SampleLe and LightLeSample).
+struct LightLeSample {
+    Vec3 p{0.0f};  // the ray's origin: on the light, or for a directional light on a disc
+                   // perpendicular to it behind the scene
+    Vec3 w{0.0f};  // unit direction of the ray
+    // What is emitted along the ray: radiance (cd/m², area lights), intensity (cd, point and
+    // spot lights) or illuminance (lux on a plane perpendicular to w, directional lights).
+    Color L{0.0f};
+    float pdfPos = 0.0f;  // area density (1/m²) of p; 1 for a delta position (point, spot)
+    float pdfDir = 0.0f;  // solid-angle density (1/sr) of w; 1 for a delta direction
+    Vec3 n{0.0f};         // unit normal of the emitting face at p (area lights), else zero
+    Vec3 pError{0.0f};    // rounding error bound of p (area lights), to offset rays off the light
+    Vec3 b{0.0f};         // barycentrics of p on an area light's triangle, for emittedLe()
+
+    // The flux (lm per channel) one sample stands for, L |cos theta| / (pdfPos pdfDir), with
+    // cos theta = n . w for area lights and 1 otherwise: its mean over samples is
+    // Light::power() (the initial beta of a photon in pbrt-v4's SPPMIntegrator).
+    Color flux() const {
+        const float denominator = pdfPos * pdfDir;
+        if (!(denominator > 0.0f))
+            return Color(0.0f);
+        const float cosTheta = glm::dot(n, n) > 0.0f ? std::abs(glm::dot(n, w)) : 1.0f;
+        return L * (cosTheta / denominator);
+    }
+};
+
 class Light {
   public:
     virtual ~Light() = default;
@@ -51,6 +77,19 @@ class Light {
     // this light at lightHit. Zero for delta lights.
     virtual float pdfLi(const LightSampleContext& ctx, const Vec3& wi,
                         const SurfaceHit& lightHit) const = 0;
+
+    // Samples a ray leaving the light: the origin from uPosition, the direction from uDirection
+    // (cosine-weighted over the emitting hemisphere of area lights, uniform over the sphere of a
+    // point light and over the outer cone of a spot). Nothing when the sample carries no light.
+    // The same uPosition gives the same origin whatever uDirection, so a caller may keep the
+    // origin and choose its own direction with emittedLe() (photons aimed at objects).
+    virtual std::optional<LightLeSample> sampleLe(Vec2 uPosition, Vec2 uDirection) const = 0;
+
+    // What the light emits from the origin of `origin` (a sampleLe() result) in unit direction w,
+    // in the units of LightLeSample::L: radiance (zero behind a one-sided area light), intensity
+    // (point, spot), or for a directional light its illuminance when w is its direction (zero
+    // otherwise: a delta in direction).
+    virtual Color emittedLe(const LightLeSample& origin, const Vec3& w) const = 0;
 
     // Total emitted flux (lm per channel). Used to choose lights in proportion to their power.
     virtual Color power() const = 0;

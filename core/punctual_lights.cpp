@@ -1,5 +1,7 @@
 #include "core/punctual_lights.h"
 
+#include "core/sampling.h"
+
 #include <sstream>
 
 namespace penumbra {
@@ -30,6 +32,18 @@ std::optional<LightLiSample> PointLight::sampleLi(const LightSampleContext& ctx,
     return LightLiSample{L, wi, 1.0f, desc_.position, Vec3(0.0f), Vec3(0.0f)};
 }
 
+std::optional<LightLeSample> PointLight::sampleLe(Vec2, Vec2 uDirection) const {
+    LightLeSample s;
+    s.p = desc_.position;
+    s.w = sampleUniformSphere(uDirection);
+    s.L = intensity(s.w);
+    s.pdfPos = 1.0f;
+    s.pdfDir = kInv4Pi;
+    if (maxComponent(s.L) <= 0.0f)
+        return std::nullopt;
+    return s;
+}
+
 // Phi = 4 pi I for an isotropic point source.
 Color PointLight::power() const {
     return 4.0f * kPi * desc_.color * desc_.intensity;
@@ -55,6 +69,20 @@ Color SpotLight::intensity(const Vec3& w) const {
     const float offset = -cosOuter_ * scale;
     const float falloff = sqr(glm::clamp(cosTheta * scale + offset, 0.0f, 1.0f));
     return desc_.color * desc_.intensity * falloff;
+}
+
+std::optional<LightLeSample> SpotLight::sampleLe(Vec2, Vec2 uDirection) const {
+    // Nothing is emitted outside the outer cone, so sampling it alone loses nothing.
+    const Frame frame = Frame::fromNormal(desc_.direction);
+    LightLeSample s;
+    s.p = desc_.position;
+    s.w = frame.toWorld(sampleUniformCone(uDirection, cosOuter_));
+    s.L = intensity(s.w);
+    s.pdfPos = 1.0f;
+    s.pdfDir = 1.0f / (2.0f * kPi * (1.0f - cosOuter_));
+    if (maxComponent(s.L) <= 0.0f || !std::isfinite(s.pdfDir))
+        return std::nullopt;
+    return s;
 }
 
 // Integral of the falloff over the sphere, with x = cos theta and the ramp
@@ -83,6 +111,24 @@ std::optional<LightLiSample> DirectionalLight::sampleLi(const LightSampleContext
     const float reach = glm::length(ctx.p - sceneCenter_) + 2.0f * sceneRadius_;
     const Vec3 pLight = ctx.p + wi * reach;
     return LightLiSample{desc_.color * desc_.intensity, wi, 1.0f, pLight, Vec3(0.0f), Vec3(0.0f)};
+}
+
+std::optional<LightLeSample> DirectionalLight::sampleLe(Vec2 uPosition, Vec2) const {
+    const Frame frame = Frame::fromNormal(desc_.direction);
+    const Vec2 d = sampleConcentricDisk(uPosition) * sceneRadius_;
+    LightLeSample s;
+    s.p = sceneCenter_ - desc_.direction * sceneRadius_ + frame.s * d.x + frame.t * d.y;
+    s.w = desc_.direction;
+    s.L = desc_.color * desc_.intensity;
+    s.pdfPos = 1.0f / (kPi * sqr(sceneRadius_));
+    s.pdfDir = 1.0f;
+    if (maxComponent(s.L) <= 0.0f)
+        return std::nullopt;
+    return s;
+}
+
+Color DirectionalLight::emittedLe(const LightLeSample&, const Vec3& w) const {
+    return w == desc_.direction ? desc_.color * desc_.intensity : Color(0.0f);
 }
 
 // Flux through the disk that the scene's bounding sphere presents to the light: E pi r².

@@ -6,7 +6,9 @@
 
 namespace penumbra {
 
-// Point light of intensity I (cd): Li = I / d² times the range window.
+// Point light of intensity I (cd): Li = I / d² times the range window. Photons (sampleLe) leave
+// it uniformly over the sphere and ignore the range window, which the extension defines as a
+// cut-off hint for real-time renderers.
 class PointLight : public Light {
   public:
     explicit PointLight(const PunctualLightDesc& desc);
@@ -17,6 +19,8 @@ class PointLight : public Light {
     float pdfLi(const LightSampleContext&, const Vec3&, const SurfaceHit&) const override {
         return 0.0f;
     }
+    std::optional<LightLeSample> sampleLe(Vec2 uPosition, Vec2 uDirection) const override;
+    Color emittedLe(const LightLeSample&, const Vec3& w) const override { return intensity(w); }
     Color power() const override;
     std::string describe() const override;
 
@@ -27,12 +31,14 @@ class PointLight : public Light {
     PunctualLightDesc desc_;
 };
 
-// Spot light: a point light with the cone falloff of KHR_lights_punctual.
+// Spot light: a point light with the cone falloff of KHR_lights_punctual. Photons leave it
+// uniformly over the outer cone.
 class SpotLight : public PointLight {
   public:
     explicit SpotLight(const PunctualLightDesc& desc);
 
     LightKind kind() const override { return LightKind::Spot; }
+    std::optional<LightLeSample> sampleLe(Vec2 uPosition, Vec2 uDirection) const override;
     Color power() const override;
 
   protected:
@@ -42,7 +48,10 @@ class SpotLight : public PointLight {
     float cosOuter_, cosInner_;
 };
 
-// Directional light of illuminance E (lux) on a surface perpendicular to it.
+// Directional light of illuminance E (lux) on a surface perpendicular to it. Photons start
+// uniformly on the disc of the scene's bounding sphere's radius, perpendicular to the light,
+// one radius behind the sphere's centre (pbrt-v4's DistantLight::SampleLe), so that they cross
+// the whole scene.
 class DirectionalLight : public Light {
   public:
     // sceneRadius bounds the scene, to place shadow-ray targets outside it and to estimate power.
@@ -54,6 +63,8 @@ class DirectionalLight : public Light {
     float pdfLi(const LightSampleContext&, const Vec3&, const SurfaceHit&) const override {
         return 0.0f;
     }
+    std::optional<LightLeSample> sampleLe(Vec2 uPosition, Vec2 uDirection) const override;
+    Color emittedLe(const LightLeSample& origin, const Vec3& w) const override;
     Color power() const override;
     std::string describe() const override;
 

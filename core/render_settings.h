@@ -16,7 +16,11 @@ struct RenderSettings {
     double timeLimit = 0.0;  // seconds, 0 = none; stops at whole passes of samples
     int maxDepth = -1;       // maximum number of scattering events, -1 = unlimited
     std::string filter = "box";
-    std::vector<std::string> aovs;  // extra layers: albedo, normal, depth
+    std::vector<std::string> aovs;  // extra layers: albedo, normal, depth, spp
+    // Adaptive sampling: a pixel whose relative standard error (Film::relativeStandardError)
+    // falls below this after kAdaptiveMinSpp samples takes no more; 0 = off.
+    float noiseThreshold = 0.0f;
+    static constexpr int kAdaptiveMinSpp = 16;
     bool quiet = false;
 };
 

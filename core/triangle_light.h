@@ -5,6 +5,7 @@
 #include "core/material.h"
 #include "core/scene_description.h"
 
+#include <array>
 #include <span>
 
 namespace penumbra {
@@ -12,7 +13,9 @@ namespace penumbra {
 // Emits radiance Le (cd/m²) from its front face (counter-clockwise winding), from both faces when
 // the material is doubleSided. Sampled uniformly by area, converted to solid angle:
 // pdf_omega = d² / (|cos theta_light| A) (pbrt-v4 section 12.2, Eq. 12.5 with the Jacobian of
-// Eq. 4.9). Emission may be textured; it is evaluated at the sampled point.
+// Eq. 4.9). Emission may be textured; it is evaluated at the sampled point. Photons (sampleLe)
+// start uniformly on the triangle and leave cosine-weighted over the front hemisphere, or over
+// either hemisphere with probability 1/2 each when the material is doubleSided.
 class TriangleLight : public Light {
   public:
     TriangleLight(const Mesh& mesh, uint32_t triangle, const Material& material,
@@ -23,6 +26,8 @@ class TriangleLight : public Light {
     std::optional<LightLiSample> sampleLi(const LightSampleContext& ctx, Vec2 u) const override;
     float pdfLi(const LightSampleContext& ctx, const Vec3& wi,
                 const SurfaceHit& lightHit) const override;
+    std::optional<LightLeSample> sampleLe(Vec2 uPosition, Vec2 uDirection) const override;
+    Color emittedLe(const LightLeSample& origin, const Vec3& w) const override;
     Color power() const override;
     std::string describe() const override;
 
@@ -31,6 +36,9 @@ class TriangleLight : public Light {
     Color emitted(std::span<const Vec2> uvs, const Vec3& w) const;
 
   private:
+    // Texture coordinates of both TEXCOORD sets at barycentrics b.
+    std::array<Vec2, 2> uvsAt(const Vec3& b) const;
+
     const Mesh& mesh_;
     uint32_t triangle_;
     const Material& material_;

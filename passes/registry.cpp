@@ -2,6 +2,7 @@
 // scripts (name -> the constructor from a [[pass]] table). Adding a preset or a pass type touches
 // this file, the pass's own files and a test.
 #include "core/errors.h"
+#include "passes/caustic_pass.h"
 #include "passes/composite.h"
 #include "passes/distribution_pass.h"
 #include "passes/path_pass.h"
@@ -45,7 +46,8 @@ const std::vector<std::pair<std::string, PresetFactory>>& presets() {
              return passes;
          }},
         // The seed's three-pass method: radiosity, then path tracing that takes the solution at
-        // the second diffuse vertex (docs/light-paths.md).
+        // the second diffuse vertex, then the caustic photon map (docs/light-paths.md); the
+        // planner skips the caustic pass for a scene without specular surfaces.
         {"hybrid",
          [](const RenderSettings& settings) {
              std::vector<std::unique_ptr<Pass>> passes;
@@ -53,6 +55,7 @@ const std::vector<std::pair<std::string, PresetFactory>>& presets() {
              PathTracerSettings path{settings.maxDepth};
              path.reuseRadiosity = true;
              passes.push_back(std::make_unique<PathPass>(path));
+             passes.push_back(std::make_unique<CausticPass>(CausticSettings{}));
              return passes;
          }},
     };
@@ -156,6 +159,28 @@ std::unique_ptr<Pass> distributionPass(const ScriptTable& p, const PassOverrides
     return std::make_unique<DistributionPass>(settings);
 }
 
+// The caustic pass: CausticSettings' keys (the table at the top of caustics/caustic_map.cpp),
+// checked by validateCausticSettings, and max_specular_depth for its camera rays.
+std::unique_ptr<Pass> causticPass(const ScriptTable& p, const PassOverrides&) {
+    CausticSettings s;
+    s.photons = p.get<int64_t>("photons", s.photons);
+    s.k = p.get("k", s.k);
+    s.maxRadius = p.get("max_radius", s.maxRadius);
+    const std::string kernel = p.get<std::string>("kernel", kernelName(s.kernel));
+    if (const auto parsed = parseKernel(kernel))
+        s.kernel = *parsed;
+    else
+        throw p.error("kernel",
+                      "unknown kernel '" + kernel + "'; valid: cone, epanechnikov, gaussian");
+    s.seed = static_cast<uint32_t>(p.get<int64_t>("seed", s.seed, 0, UINT32_MAX));
+    const int maxSpecularDepth = p.get("max_specular_depth", 16, 0, kMaxDepthLimit);
+    try {
+        return std::make_unique<CausticPass>(s, maxSpecularDepth);
+    } catch (const UsageError& e) {
+        throw atKey(p, "caustics.", e);
+    }
+}
+
 // The composite: sums the contributions so far into the beauty; no parameters.
 std::unique_ptr<Pass> compositePass(const ScriptTable&, const PassOverrides&) {
     return std::make_unique<CompositePass>();
@@ -166,17 +191,12 @@ using PassFactory =
 
 const std::vector<std::pair<std::string, PassFactory>>& passTypes() {
     static const std::vector<std::pair<std::string, PassFactory>> table = {
-        {"radiosity", radiosityPass},
-        {"path", pathPass},
-        {"distribution", distributionPass},
+        {"radiosity", radiosityPass},       {"path", pathPass},
+        {"distribution", distributionPass}, {"caustics", causticPass},
         {"composite", compositePass},
     };
     return table;
 }
-
-// Pass types of the hybrid pipeline that do not exist yet: named in messages as such rather than
-// as unknown words.
-const std::vector<std::string> kPlannedPassTypes = {"caustics"};
 
 std::string joined(const std::vector<std::string>& names) {
     std::string text;
@@ -198,13 +218,7 @@ std::unique_ptr<Pass> makeScriptPass(const ScriptPass& entry, const PassOverride
             return pass;
         }
     }
-    const bool planned = std::find(kPlannedPassTypes.begin(), kPlannedPassTypes.end(),
-                                   entry.type) != kPlannedPassTypes.end();
-    throw parameters.error(
-        "type", planned
-                    ? "pass type '" + entry.type + "' is not implemented yet; implemented: " + valid
-                    : "unknown pass type '" + entry.type + "'; valid: " + valid +
-                          " (planned: " + joined(kPlannedPassTypes) + ")");
+    throw parameters.error("type", "unknown pass type '" + entry.type + "'; valid: " + valid);
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 
 #include "core/stats.h"
 
+#include <algorithm>
 #include <sstream>
 
 namespace penumbra {
@@ -24,7 +25,7 @@ bool SamplingPass::run(PassContext& context) {
     lastPassSeconds_ = secondsSince(passStart);
     seconds_ = secondsSince(start_);
 
-    bool done = renderer_->samplesDone() >= s.spp;
+    bool done = renderer_->samplesDone() >= s.spp || renderer_->converged();
     if (s.timeLimit > 0.0) {
         // Stop at whole passes: before a pass that would end past the limit.
         done = done || seconds_ + lastPassSeconds_ > s.timeLimit;
@@ -39,7 +40,7 @@ bool SamplingPass::run(PassContext& context) {
     context.contribute(type(), renderer_->film().resolve());
     const auto& aovs = renderer_->aovNames();
     for (size_t a = 0; a < aovs.size(); ++a)
-        context.layers[aovs[a]] = renderer_->film().resolveAov(static_cast<int>(a));
+        context.layers[aovs[a]] = renderer_->resolveAov(a);
     return true;
 }
 
@@ -49,11 +50,16 @@ PassStats SamplingPass::stats() const {
     raysPerSecond.precision(4);
     raysPerSecond << static_cast<double>(renderer_->rays()) / seconds;
     PassStats stats = parameters();
-    const PassStats figures = {{"spp", std::to_string(renderer_->samplesDone())},
-                               {"seconds", std::to_string(seconds_)},
-                               {"rays", std::to_string(renderer_->rays())},
-                               {"rays_per_second", raysPerSecond.str()},
-                               {"dropped_samples", std::to_string(renderer_->droppedSamples())}};
+    const double pixels = static_cast<double>(renderer_->film().width()) *
+                          static_cast<double>(renderer_->film().height());
+    const PassStats figures = {
+        {"spp", std::to_string(renderer_->samplesDone())},
+        {"mean_spp",
+         formatStat(static_cast<double>(renderer_->samplesTaken()) / std::max(pixels, 1.0))},
+        {"seconds", std::to_string(seconds_)},
+        {"rays", std::to_string(renderer_->rays())},
+        {"rays_per_second", raysPerSecond.str()},
+        {"dropped_samples", std::to_string(renderer_->droppedSamples())}};
     stats.insert(stats.end(), figures.begin(), figures.end());
     return stats;
 }

@@ -21,10 +21,13 @@ constexpr int kTileSize = 16;
 std::vector<AovSpec> aovSpecs(const std::vector<std::string>& names) {
     std::vector<AovSpec> specs;
     for (const std::string& name : names) {
-        if (name != "albedo" && name != "normal" && name != "depth") {
-            throw UsageError("--aov: unknown layer '" + name + "'; valid: albedo, normal, depth");
+        if (name != "albedo" && name != "normal" && name != "depth" && name != "spp") {
+            throw UsageError("--aov: unknown layer '" + name +
+                             "'; valid: albedo, normal, depth, spp");
         }
-        if (name == "normal") {
+        if (name == "spp") {
+            specs.push_back({name, {"N"}});
+        } else if (name == "normal") {
             specs.push_back({name, {"X", "Y", "Z"}});
         } else if (name == "depth") {
             specs.push_back({name, {"Z"}});
@@ -56,12 +59,22 @@ ImageRenderer::ImageRenderer(const Camera& camera, const RenderSettings& setting
       estimator_(std::move(estimator)),
       filter_(parseFilter(settings.filter)),
       aovNames_(settings.aovs),
-      film_(settings.width, settings.height, aovSpecs(aovNames_)) {}
+      film_(settings.width, settings.height, aovSpecs(aovNames_)),
+      converged_(static_cast<size_t>(settings.width) * settings.height, 0),
+      activePixels_(converged_.size()) {}
+
+Image ImageRenderer::resolveAov(size_t aov) const {
+    if (aovNames_.at(aov) == "spp")
+        return film_.resolveSampleCounts();
+    return film_.resolveAov(static_cast<int>(aov));
+}
 
 void ImageRenderer::renderSamplePass() {
     struct Counts {
-        uint64_t rays = 0, dropped = 0;
+        uint64_t rays = 0, dropped = 0, converged = 0;
     };
+    const float threshold = settings_.noiseThreshold;
+    const bool adaptive = threshold > 0.0f && samplesDone_ + 1 >= RenderSettings::kAdaptiveMinSpp;
     tbb::combinable<Counts> counts;
     const uint32_t sampleIndex = static_cast<uint32_t>(samplesDone_);
     const bool wantAovs = !aovNames_.empty();
@@ -70,10 +83,14 @@ void ImageRenderer::renderSamplePass() {
         [&](const tbb::blocked_range2d<int>& tile) {
             Sampler sampler(settings_.seed);
             PathCounters counters;
-            uint64_t dropped = 0;
+            uint64_t dropped = 0, converged = 0;
             for (int y = tile.rows().begin(); y < tile.rows().end(); ++y) {
                 for (int x = tile.cols().begin(); x < tile.cols().end(); ++x) {
                     const IVec2 pixel(x, y);
+                    uint8_t& pixelConverged =
+                        converged_[static_cast<size_t>(y) * settings_.width + x];
+                    if (pixelConverged)
+                        continue;
                     sampler.startPixelSample(pixel, sampleIndex);
                     const Vec2 offset = filter_.sampleOffset(sampler.getPixel2D());
                     const Ray ray = camera_.generateRay(Vec2(pixel) + Vec2(0.5f) + offset);
@@ -87,17 +104,28 @@ void ImageRenderer::renderSamplePass() {
                     }
                     film_.addSample(pixel, L, 1.0f);
                     for (size_t a = 0; a < aovNames_.size(); ++a) {
-                        film_.addAov(pixel, static_cast<int>(a), aovValue(aovNames_[a], firstHit));
+                        if (aovNames_[a] != "spp")
+                            film_.addAov(pixel, static_cast<int>(a),
+                                         aovValue(aovNames_[a], firstHit));
+                    }
+                    // Each pixel decides from its own samples only: the image stays a function
+                    // of the seed whatever the thread count.
+                    if (adaptive && film_.relativeStandardError(pixel) < threshold) {
+                        pixelConverged = 1;
+                        ++converged;
                     }
                 }
             }
             Counts& local = counts.local();
             local.rays += counters.rays;
             local.dropped += dropped;
+            local.converged += converged;
         });
+    samplesTaken_ += activePixels_;
     counts.combine_each([this](const Counts& c) {
         rays_ += c.rays;
         dropped_ += c.dropped;
+        activePixels_ -= c.converged;
     });
     ++samplesDone_;
 }

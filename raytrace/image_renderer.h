@@ -16,7 +16,7 @@
 
 namespace penumbra {
 
-// The film layers for AOV names (albedo, normal, depth); UsageError for an unknown name.
+// The film layers for AOV names (albedo, normal, depth, spp); UsageError for an unknown name.
 std::vector<AovSpec> aovSpecs(const std::vector<std::string>& names);
 
 // Radiance estimate for one camera ray (see PathTracer::Li for the contract).
@@ -27,13 +27,23 @@ class ImageRenderer {
     ImageRenderer(const Camera& camera, const RenderSettings& settings,
                   RadianceEstimator estimator);
 
-    // Renders one more sample per pixel (sample index samplesDone()).
+    // Renders one more sample per pixel (sample index samplesDone()), for every pixel that has
+    // not converged under adaptive sampling (RenderSettings::noiseThreshold).
     void renderSamplePass();
     int samplesDone() const { return samplesDone_; }
+    // Camera samples taken over all pixels and passes (below samplesDone() x pixels when
+    // adaptive sampling stopped some).
+    uint64_t samplesTaken() const { return samplesTaken_; }
+    // Whether adaptive sampling has stopped every pixel.
+    bool converged() const { return activePixels_ == 0; }
     uint64_t rays() const { return rays_; }
     uint64_t droppedSamples() const { return dropped_; }
 
     const Film& film() const { return film_; }
+    // The radiance, and AOV layer `aov` (index into aovNames()); "spp" is the samples each pixel
+    // took.
+    Image resolve() const { return film_.resolve(); }
+    Image resolveAov(size_t aov) const;
     // AOV names in film order (a subset of albedo, normal, depth).
     const std::vector<std::string>& aovNames() const { return aovNames_; }
 
@@ -44,6 +54,9 @@ class ImageRenderer {
     PixelFilter filter_;
     std::vector<std::string> aovNames_;
     Film film_;
+    std::vector<uint8_t> converged_;  // per pixel: no more samples (adaptive sampling)
+    size_t activePixels_;
+    uint64_t samplesTaken_ = 0;
     int samplesDone_ = 0;
     uint64_t rays_ = 0;
     uint64_t dropped_ = 0;

@@ -197,13 +197,10 @@ TEST_F(PassScriptTest, OutOfRange) {
 TEST_F(PassScriptTest, PassTypes) {
     EXPECT_EQ(firstLine(error(kScene + "[[pass]]\ntype = \"photon\"\n")),
               "3:8: pass[0].type: unknown pass type 'photon'; valid: radiosity, path, "
-              "distribution, composite (planned: caustics)");
-    EXPECT_EQ(firstLine(error(kScene + "[[pass]]\ntype = \"caustics\"\n")),
-              "3:8: pass[0].type: pass type 'caustics' is not implemented yet; implemented: "
-              "radiosity, path, distribution, composite");
+              "distribution, caustics, composite");
     EXPECT_EQ(firstLine(error(kScene + "\n[[pass]]\nepsilon = 0.1\n")),
               "3:1: pass[0].type: missing; valid pass types: radiosity, path, distribution, "
-              "composite");
+              "caustics, composite");
 }
 
 // The planner's checks (passes/planner.h) reach the script's author at the offending table.
@@ -219,6 +216,13 @@ TEST_F(PassScriptTest, PipelinesThatCountAPathTwiceOrLackAProduct) {
               "makes: put a pass of type 'radiosity' before it");
     EXPECT_EQ(firstLine(error(kScene + "[[pass]]\ntype = \"composite\"\n\n" + kPath)),
               "5:1: pass[1]: a pass after the composite pass: the composite must be the last pass");
+    // The "a script that counts caustics twice".
+    EXPECT_EQ(firstLine(error(kScene + "[[pass]]\ntype = \"radiosity\"\n\n" + kPath +
+                              "radiosity = true\ncaustics = \"include\"\n\n[[pass]]\ntype = "
+                              "\"caustics\"\n"))
+                  .substr(0, 99),
+              "10:1: pass[2]: pass 3 (caustics) and pass 2 (path) both count the light paths L S D "
+              "E, L S D S E, L");
     EXPECT_EQ(firstLine(error(kScene + kPath + "caustics = \"some\"\n")),
               "4:12: pass[0].caustics: unknown value 'some'; valid: auto, include, exclude");
 }

@@ -1,0 +1,360 @@
+#include "caustics/photon_tracer.h"
+
+#include "core/progress.h"
+#include "core/ray.h"
+#include "core/sampler.h"
+#include "core/sampling.h"
+#include "core/scene.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <optional>
+#include <span>
+
+namespace penumbra {
+
+namespace {
+
+// Photons per task: the unit of parallel work and of the deterministic merge.
+constexpr uint64_t kChunkSize = 1024;
+// Above this many specular meshes, one sphere around all of them is the target: the mixture
+// density is evaluated over every sphere for every photon.
+constexpr size_t kMaxTargets = 64;
+// After this many S vertices, Russian roulette ends at least this fraction of the photons, so
+// that a photon cannot bounce for ever between perfect mirrors (as the path tracer does).
+constexpr int kRouletteStartDepth = 3;
+constexpr float kMinTerminationProbability = 0.05f;
+// Transparent layers (thin glass, cut-outs) a photon may pass without scattering.
+constexpr int kMaxTransparentLayers = 64;
+
+struct Sphere {
+    Vec3 center;
+    float radius;
+};
+
+// Whether the BSDF of any triangle of the mesh has a delta lobe. The material's textures can
+// change the lobes (a roughness map), so a textured material is checked at every triangle's
+// centroid; an untextured one at its first triangle.
+bool hasSpecularLobe(const Scene& scene, uint32_t meshIndex) {
+    const Mesh& mesh = scene.meshes()[meshIndex];
+    const Material& m = scene.materials()[mesh.material];
+    const bool textured = m.metallicRoughnessTexture.valid() || m.transmissionTexture.valid();
+    const size_t count =
+        textured ? mesh.triangles.size() : std::min<size_t>(1, mesh.triangles.size());
+    for (uint32_t t = 0; t < count; ++t) {
+        const SurfaceHit hit = scene.surfaceAt(meshIndex, t, Vec3(1.0f / 3.0f));
+        if (scene.bsdf(hit).lobes() & kLobeSpecular)
+            return true;
+    }
+    return false;
+}
+
+Sphere boundingSphere(const Mesh& mesh) {
+    Bounds3 bounds;
+    for (const Vec3& p : mesh.positions)
+        bounds.extend(p);
+    Sphere s{bounds.center(), 0.0f};
+    for (const Vec3& p : mesh.positions)
+        s.radius = std::max(s.radius, glm::distance(p, s.center));
+    // Rounding must not let a grazing photon miss the sphere but hit the mesh.
+    s.radius = s.radius * (1.0f + 1e-4f) + 1e-6f;
+    return s;
+}
+
+// The spheres photons are aimed at: one per mesh with a delta lobe, or one around all of them.
+std::vector<Sphere> aimTargets(const Scene& scene, int& specularMeshes) {
+    std::vector<Sphere> targets;
+    Bounds3 all;
+    for (uint32_t m = 0; m < scene.meshes().size(); ++m) {
+        const Mesh& mesh = scene.meshes()[m];
+        if (mesh.triangles.empty() || !hasSpecularLobe(scene, m))
+            continue;
+        targets.push_back(boundingSphere(mesh));
+        for (const Vec3& p : mesh.positions)
+            all.extend(p);
+    }
+    specularMeshes = static_cast<int>(targets.size());
+    if (targets.size() > kMaxTargets) {
+        const float radius = all.boundingRadius() * (1.0f + 1e-4f) + 1e-6f;
+        targets.assign(1, Sphere{all.center(), radius});
+    }
+    return targets;
+}
+
+// The cone of directions from a point towards a sphere: its axis, the cosine of its half angle
+// and its solid angle 2 pi (1 - cos), written as 2 pi sin² / (1 + cos) to keep the precision of
+// small cones. From inside the sphere, every direction (cos = -1, 4 pi).
+struct Cone {
+    Vec3 axis;
+    float cosMax;
+    float solidAngle;
+
+    bool contains(const Vec3& w) const { return glm::dot(w, axis) >= cosMax; }
+};
+
+Cone coneTowards(const Vec3& origin, const Sphere& s) {
+    const Vec3 toCenter = s.center - origin;
+    const float d2 = glm::dot(toCenter, toCenter);
+    if (d2 <= sqr(s.radius))
+        return Cone{Vec3(0.0f, 0.0f, 1.0f), -1.0f, 4.0f * kPi};
+    const float sin2 = sqr(s.radius) / d2;
+    const float cosMax = safeSqrt(1.0f - sin2);
+    return Cone{toCenter / std::sqrt(d2), cosMax, 2.0f * kPi * sin2 / (1.0f + cosMax)};
+}
+
+// A direction from a mixture of uniform cones chosen in proportion to their solid angles; the
+// mixture's density is (number of cones containing w) / (sum of solid angles) (a one-sample
+// mixture: Veach 1997, chapter 9, the one-sample model). Nothing if every cone is empty.
+struct AimedDirection {
+    Vec3 w;
+    float pdf;  // solid angle
+};
+
+std::optional<AimedDirection> sampleCones(std::span<const Cone> cones, float uChoice, Vec2 u) {
+    float total = 0.0f;
+    for (const Cone& c : cones)
+        total += c.solidAngle;
+    if (!(total > 0.0f))
+        return std::nullopt;
+    float target = uChoice * total;
+    size_t chosen = cones.size() - 1;
+    for (size_t i = 0; i < cones.size(); ++i) {
+        if (target < cones[i].solidAngle) {
+            chosen = i;
+            break;
+        }
+        target -= cones[i].solidAngle;
+    }
+    const Cone& c = cones[chosen];
+    const Vec3 w =
+        glm::normalize(Frame::fromNormal(c.axis).toWorld(sampleUniformCone(u, c.cosMax)));
+    int covering = 0;
+    for (const Cone& other : cones)
+        covering += other.contains(w) ? 1 : 0;
+    // The chosen cone contains w up to rounding.
+    covering = std::max(covering, 1);
+    return AimedDirection{w, covering / total};
+}
+
+// The same mixture for a directional light: the origin is drawn uniformly on one of the discs
+// that the spheres project onto its emission plane, chosen in proportion to their areas; density
+// (per m²) = (number of discs containing the origin) / (sum of their areas).
+struct AimedOrigin {
+    Vec3 p;
+    float pdf;  // area
+};
+
+AimedOrigin sampleDiscs(std::span<const Sphere> targets, const LightLeSample& plane, float uChoice,
+                        Vec2 u) {
+    const Frame frame = Frame::fromNormal(plane.w);
+    float total = 0.0f;
+    for (const Sphere& s : targets)
+        total += kPi * sqr(s.radius);
+    const auto project = [&](const Vec3& c) {
+        return c - plane.w * glm::dot(c - plane.p, plane.w);
+    };
+    float target = uChoice * total;
+    size_t chosen = targets.size() - 1;
+    for (size_t i = 0; i < targets.size(); ++i) {
+        const float area = kPi * sqr(targets[i].radius);
+        if (target < area) {
+            chosen = i;
+            break;
+        }
+        target -= area;
+    }
+    const Vec2 d = sampleConcentricDisk(u) * targets[chosen].radius;
+    const Vec3 p = project(targets[chosen].center) + frame.s * d.x + frame.t * d.y;
+    int covering = 0;
+    for (const Sphere& s : targets)
+        covering += glm::distance(p, project(s.center)) <= s.radius ? 1 : 0;
+    return AimedOrigin{p, std::max(covering, 1) / total};
+}
+
+// Beer-Lambert attenuation exp(-sigma t) of a segment inside a volume material, known when the
+// segment ends on the material's back face (the path tracer's rule, raytrace/path_tracer.cpp).
+Color segmentAttenuation(const Scene& scene, const SurfaceHit& hit, const Vec3& direction) {
+    const Material& m = scene.material(hit);
+    if (m.thinWalled() || hit.frontFace(direction))
+        return Color(1.0f);
+    return glm::exp(-m.absorption() * hit.t);
+}
+
+struct ChunkResult {
+    std::vector<Photon> photons;
+    uint64_t aimedAtSpecular = 0;
+};
+
+class Tracer {
+  public:
+    Tracer(const Scene& scene, const PhotonTracerSettings& settings, std::vector<Sphere> targets)
+        : scene_(scene), settings_(settings), targets_(std::move(targets)) {}
+
+    void trace(uint64_t index, ChunkResult& out) const {
+        Sampler sampler(settings_.seed);
+        sampler.startPixelSample(IVec2(0, 0), static_cast<uint32_t>(settings_.firstIndex + index));
+        const auto choice = scene_.lightSampler().sample(sampler.get1D());
+        if (!choice)
+            return;
+        const Light& light = *scene_.lights()[choice->light];
+        const Vec2 uPosition = sampler.get2D();
+        const Vec2 uDirection = sampler.get2D();
+        const float uTarget = sampler.get1D();
+        const std::optional<LightLeSample> origin = light.sampleLe(uPosition, uDirection);
+        if (!origin)
+            return;
+
+        // The aimed ray and its flux divided by the light's selection probability.
+        Ray ray;
+        Color beta;
+        if (light.kind() == LightKind::Directional) {
+            const AimedOrigin o = sampleDiscs(targets_, *origin, uTarget, uDirection);
+            ray = Ray{o.p, origin->w};
+            beta = origin->L / (o.pdf * choice->pmf);
+        } else {
+            std::vector<Cone> cones;
+            cones.reserve(targets_.size());
+            for (const Sphere& s : targets_)
+                cones.push_back(coneTowards(origin->p, s));
+            const std::optional<AimedDirection> d = sampleCones(cones, uTarget, uDirection);
+            if (!d)
+                return;
+            const Color L = light.emittedLe(*origin, d->w);
+            const bool area = glm::dot(origin->n, origin->n) > 0.0f;
+            const float cosTheta = area ? std::abs(glm::dot(origin->n, d->w)) : 1.0f;
+            beta = L * (cosTheta / (origin->pdfPos * d->pdf * choice->pmf));
+            ray =
+                Ray{area ? offsetRayOrigin(origin->p, origin->pError, origin->n, d->w) : origin->p,
+                    d->w};
+        }
+        // Each of the N photons carries 1/N of the estimate (Jensen 2001, chapter 5).
+        beta /= static_cast<float>(settings_.photons);
+        if (!(maxComponent(beta) > 0.0f) || !isFinite(beta))
+            return;
+        followPath(ray, beta, sampler, out);
+    }
+
+  private:
+    void followPath(Ray ray, Color beta, Sampler& sampler, ChunkResult& out) const {
+        int specularVertices = 0;
+        int transparentLayers = 0;
+        bool firstSurface = true;
+        while (true) {
+            const std::optional<SurfaceHit> hit = scene_.intersect(ray);
+            if (!hit)
+                return;
+            beta *= segmentAttenuation(scene_, *hit, ray.d);
+            const Bsdf bsdf = scene_.bsdf(*hit);
+            const Vec3 wo = -ray.d;
+
+            // Straight-through transparency: continue unchanged with probability q, else
+            // scatter; both branches reweighted (the path tracer's rule, so both agree).
+            const Color through = scene_.straightTransmittance(*hit, bsdf, wo);
+            if (maxComponent(through) > 0.0f) {
+                const float q = glm::min(maxComponent(through), 1.0f);
+                if (sampler.get1D() < q) {
+                    if (++transparentLayers > kMaxTransparentLayers)
+                        return;
+                    beta *= through / q;
+                    ray = Scene::spawnRay(*hit, ray.d);
+                    continue;
+                }
+                beta /= 1.0f - q;
+            }
+            if (firstSurface) {
+                firstSurface = false;
+                if (bsdf.lobes() & kLobeSpecular)
+                    ++out.aimedAtSpecular;
+            }
+
+            // Store at a D surface after at least one S vertex, on a side that reflects.
+            const bool front = hit->frontFace(ray.d);
+            if (specularVertices > 0 && bsdf.hasNonDeltaLobe() &&
+                (front || scene_.material(*hit).doubleSided)) {
+                out.photons.push_back(Photon{hit->p, wo, beta, front ? hit->ng : -hit->ng});
+            }
+            if (specularVertices >= settings_.maxSpecularBounces)
+                return;
+
+            // Continue through S vertices only.
+            const float uLobe = sampler.get1D();
+            const Vec2 u = sampler.get2D();
+            const std::optional<BsdfSample> bs =
+                bsdf.sample(wo, uLobe, u, TransportMode::Importance);
+            if (!bs || !bs->isDelta() || !(bs->pdf > 0.0f))
+                return;
+            const Vec3& ns = bsdf.shadingNormal();
+            const float cosWiNs = std::abs(glm::dot(bs->wi, ns));
+            const float cosWoNg = std::abs(glm::dot(wo, hit->ng));
+            if (!(cosWiNs > 0.0f) || !(cosWoNg > 0.0f))
+                return;
+            // The adjoint BSDF with shading normals (Veach 1997, "Robust Monte Carlo Methods for
+            // Light Transport Simulation", section 5.3): importance is scattered by
+            // f |wo.ns| |wi.ng| / |wo.ng| rather than f |wi.ns|.
+            Color next = beta * bs->f * (cosWiNs / bs->pdf) *
+                         (std::abs(glm::dot(wo, ns)) * std::abs(glm::dot(bs->wi, hit->ng)) /
+                          (cosWoNg * cosWiNs));
+            ++specularVertices;
+
+            // Russian roulette keeps the photon's power near its current value (Jensen 2001,
+            // chapter 5; Arvo and Kirk 1990): survive with probability min(1, new / old).
+            float survive = glm::min(1.0f, maxComponent(next) / maxComponent(beta));
+            if (specularVertices >= kRouletteStartDepth)
+                survive = glm::min(survive, 1.0f - kMinTerminationProbability);
+            if (!(survive > 0.0f) || sampler.get1D() >= survive)
+                return;
+            beta = next / survive;
+            if (!isFinite(beta))
+                return;
+            ray = Scene::spawnRay(*hit, bs->wi);
+        }
+    }
+
+    const Scene& scene_;
+    const PhotonTracerSettings& settings_;
+    std::vector<Sphere> targets_;
+};
+
+}  // namespace
+
+PhotonTraceResult tracePhotons(const Scene& scene, const PhotonTracerSettings& settings,
+                               Progress* progress) {
+    PhotonTraceResult result;
+    for (const auto& light : scene.lights())
+        result.emittedPower += light->power();
+    std::vector<Sphere> targets = aimTargets(scene, result.specularMeshes);
+    if (targets.empty() || scene.lights().empty() || settings.photons == 0)
+        return result;
+
+    const Tracer tracer(scene, settings, std::move(targets));
+    const uint64_t chunks = (settings.photons + kChunkSize - 1) / kChunkSize;
+    std::vector<ChunkResult> results(chunks);
+    tbb::parallel_for(tbb::blocked_range<uint64_t>(0, chunks), [&](const auto& range) {
+        for (uint64_t c = range.begin(); c != range.end(); ++c) {
+            const uint64_t begin = c * kChunkSize;
+            const uint64_t end = std::min(settings.photons, begin + kChunkSize);
+            for (uint64_t i = begin; i < end; ++i)
+                tracer.trace(i, results[c]);
+            if (progress)
+                progress->advance(end - begin);
+        }
+    });
+
+    size_t stored = 0;
+    for (const ChunkResult& r : results)
+        stored += r.photons.size();
+    result.photons.reserve(stored);
+    for (ChunkResult& r : results) {
+        result.aimedAtSpecular += r.aimedAtSpecular;
+        for (const Photon& p : r.photons)
+            result.storedPower += p.power;
+        result.photons.insert(result.photons.end(), r.photons.begin(), r.photons.end());
+        r.photons = {};
+    }
+    result.shot = settings.photons;
+    return result;
+}
+
+}  // namespace penumbra

@@ -1,0 +1,80 @@
+// Caustic photons: light paths L S+ D traced from the lights (Jensen 2001, "Realistic Image
+// Synthesis Using Photon Mapping", chapter 5, the caustic photon map).
+//
+// Emission. The lights are chosen in proportion to their power (Scene::lightSampler()). A photon
+// only becomes a caustic photon if its first surface is specular, so it is aimed at the objects
+// that can be (Jensen's "projection maps", chapter 5, with bounding spheres instead of a
+// projection grid): from a point or spot light, or a point sampled on an area light, the
+// direction is drawn uniformly inside the cone of one of the bounding spheres of the specular
+// meshes, the sphere chosen in proportion to its cone's solid angle; for a directional light the
+// origin is drawn on the spheres' discs projected onto its emission disc. Overlapping cones or
+// discs are accounted for by evaluating the whole mixture's density, so the estimator stays
+// unbiased: no direction that can reach a specular mesh is left out.
+//
+// Classification of a surface vertex (Heckbert's notation; core/bsdf.h): the vertex is S when
+// the BSDF sample taken there comes from a delta lobe (kLobeSpecular: mirror, smooth glass, the
+// smooth coat of a plastic), D otherwise. Thin-walled straight-through transmission and alpha
+// cut-outs (Scene::straightTransmittance) are transparency, not a vertex: the photon continues
+// unchanged, as shadow rays do.
+//
+// Storage rule. A photon is stored at a surface that has a non-delta lobe, when it has passed at
+// least one S vertex and arrives on a side that reflects: the front face (counter-clockwise
+// winding), or either face when the material is doubleSided. Photons arriving at the back face
+// of a one-sided material are not stored (they would light the inside of a closed object or the
+// back of a wall). After storing, the photon continues only if the surface's BSDF sample is again
+// specular; a D sample ends it (the caustic map holds L S+ D paths only, never L S+ D S+ D).
+//
+// Power. Each stored photon carries flux (lm per linear-sRGB channel), its path's estimate
+// divided by the number of photons shot: the sum over all stored photons estimates the flux the
+// L S+ paths deliver to the receiving surfaces.
+// Russian roulette at S vertices keeps the power of a photon near its emitted value (Jensen 2001,
+// chapter 5), and is unbiased.
+//
+// Determinism: photon i uses sample index firstIndex + i of one Sampler sequence (core/sampler.h)
+// and chunks are concatenated in order, so the photons are the same whatever the thread count.
+#pragma once
+
+#include "core/math.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace penumbra {
+
+class Progress;
+class Scene;
+
+struct Photon {
+    Vec3 p;       // position on the receiving surface, m
+    Vec3 wi;      // unit direction towards where the photon came from (away from the surface)
+    Color power;  // flux, lm per channel
+    Vec3 n;       // unit geometric normal on the side the photon arrived from
+};
+
+struct PhotonTracerSettings {
+    uint64_t photons = 200000;  // photons shot (emitted), not stored
+    uint32_t seed = 0;
+    // Photon i uses sample index firstIndex + i of the sequence, so that successive batches
+    // (progressive photon mapping) continue one sequence; indices wrap after 2^32.
+    uint64_t firstIndex = 0;
+    int maxSpecularBounces = 64;  // a bound on S vertices, after Russian roulette
+};
+
+struct PhotonTraceResult {
+    std::vector<Photon> photons;  // the stored caustic photons
+    uint64_t shot = 0;            // photons emitted
+    // Photons whose first scattering surface (after any transparency passed straight through)
+    // has a delta lobe: those aimed well.
+    uint64_t aimedAtSpecular = 0;
+    int specularMeshes = 0;    // meshes with a delta lobe, which photons are aimed at
+    Color emittedPower{0.0f};  // total power of the lights, lm
+    Color storedPower{0.0f};   // sum of the stored photons' power, lm
+};
+
+// Shoots settings.photons photons (in parallel with oneTBB), advancing `progress` (may be null)
+// by one per photon. A scene without a specular mesh or without lights gives no photons and
+// shoots none.
+PhotonTraceResult tracePhotons(const Scene& scene, const PhotonTracerSettings& settings,
+                               Progress* progress);
+
+}  // namespace penumbra

@@ -1,0 +1,84 @@
+#include "cli/pipeline_run.h"
+
+#include "core/stats.h"
+#include "core/version.h"
+
+#include <tbb/global_control.h>
+#include <tbb/info.h>
+
+#include <chrono>
+
+namespace penumbra::cli {
+
+PipelineRun runPipeline(Pipeline& pipeline, const Scene& scene, const Camera& camera,
+                        const RenderSettings& settings, const std::function<bool()>& stop) {
+    const int threads = settings.threads > 0 ? settings.threads : tbb::info::default_concurrency();
+    tbb::global_control parallelism(tbb::global_control::max_allowed_parallelism, threads);
+    // The passes read the settings through the context at every step (core/pass.h); lowering this
+    // copy's spp target to one sample is how a pass is told to finish at its next step.
+    RenderSettings live = settings;
+    PassContext context(scene, camera, live);
+    PipelineRun result;
+    const auto start = std::chrono::steady_clock::now();
+    const auto abandon = [&] {
+        result.stopped = true;
+        result.seconds = secondsSince(start);
+        return result;
+    };
+    const bool finished = pipeline.run(context, [&](double stepSeconds) {
+        if (stop && stop())
+            return false;
+        // Whole sample passes, as PathPass::run: finish before a step that would end past the
+        // limit, assuming it takes as long as the last one.
+        if (live.timeLimit > 0.0 && secondsSince(start) + stepSeconds > live.timeLimit)
+            live.spp = 1;
+        return true;
+    });
+    if (!finished)
+        return abandon();
+    result.seconds = secondsSince(start);
+    result.layers = std::move(context.layers);
+    result.contributions = std::move(context.contributions);
+    return result;
+}
+
+ImageMetadata renderMetadata(const Pipeline& pipeline, const RenderSettings& settings,
+                             double seconds, const std::string& scenePath,
+                             const std::string& cameraName) {
+    ImageMetadata metadata;
+    metadata.set("penumbra:version", std::string(kVersion));
+    metadata.set("penumbra:pipeline", pipeline.name());
+    metadata.set("penumbra:seed", static_cast<int>(settings.seed));
+    metadata.set("penumbra:seconds", static_cast<float>(seconds));
+    metadata.set("penumbra:scene", scenePath);
+    metadata.set("penumbra:camera", cameraName);
+    metadata.set("penumbra:filter", settings.filter);
+    for (size_t i = 0; i < pipeline.passes().size(); ++i) {
+        const Pass& pass = *pipeline.passes()[i];
+        if (pipeline.skipped(i)) {
+            metadata.set("penumbra:" + pass.type() + ".skipped", std::string("true"));
+            continue;
+        }
+        for (const auto& [key, value] : pass.stats()) {
+            metadata.set("penumbra:" + pass.type() + "." + key, value);
+            if (key == "spp")
+                metadata.set("penumbra:spp", std::stoi(value));
+        }
+    }
+    return metadata;
+}
+
+std::string passStat(const Pipeline& pipeline, const std::string& key) {
+    std::string found;
+    for (size_t i = 0; i < pipeline.passes().size(); ++i) {
+        if (pipeline.skipped(i))
+            continue;
+        for (const auto& [name, value] : pipeline.passes()[i]->stats()) {
+            if (name == key)
+                found = value;
+        }
+    }
+    return found;
+}
+
+}  // namespace penumbra::cli

@@ -1,0 +1,39 @@
+// The caustic pass of the `hybrid` pipeline: builds the caustic photon map (caustics/caustic_map.h:
+// photons from the lights through specular vertices, stored at the first diffuse one) and forms
+// its image by following camera rays through specular vertices to the first surface with a
+// non-delta lobe, where the map's radiance estimate is taken.
+//
+// Contribution: image layer "caustics", light paths L S+ D S* E (the caustics seen directly or in
+// mirrors); product "caustics" (the map), which tells a path pass with `caustics = "auto"` to
+// leave those paths out.
+#pragma once
+
+#include "caustics/caustic_map.h"
+#include "passes/sampling_pass.h"
+
+#include <memory>
+
+namespace penumbra {
+
+class CausticPass : public SamplingPass {
+  public:
+    // Validates the settings (UsageError naming the key).
+    explicit CausticPass(CausticSettings settings, int maxSpecularDepth = 16);
+
+    std::string type() const override { return "caustics"; }
+    std::string lightPaths() const override { return "L S+ D S* E"; }
+    std::set<std::string> products() const override { return {"caustics"}; }
+    PassStats parameters() const override;
+    PassStats stats() const override;
+
+  protected:
+    RadianceEstimator makeEstimator(PassContext& context) override;
+    std::string activity() const override { return "caustics view"; }
+
+  private:
+    CausticSettings settings_;
+    int maxSpecularDepth_;
+    std::shared_ptr<const CausticMap> map_;
+};
+
+}  // namespace penumbra

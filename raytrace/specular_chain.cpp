@@ -1,0 +1,52 @@
+#include "raytrace/specular_chain.h"
+
+#include "core/sampler.h"
+#include "raytrace/tracing_steps.h"
+
+namespace penumbra {
+
+Color traceSpecularChain(const Scene& scene, Ray ray, Sampler& sampler, FirstHit* firstHit,
+                         PathCounters& counters, const SpecularChainSettings& settings,
+                         const DiffuseVertexTerm& atDiffuseVertex) {
+    Color L(0.0f);
+    Color beta(1.0f);
+    const Vec3 cameraOrigin = ray.o;
+    int specularDepth = 0;
+    while (true) {
+        ++counters.rays;
+        const std::optional<SurfaceHit> hit = scene.intersect(ray);
+        if (!hit)
+            break;
+        beta *= volumeAttenuation(scene, *hit, ray.d);
+        const Vec3 wo = -ray.d;
+        if (settings.countEmission)
+            L += beta * scene.emitted(*hit, wo);
+
+        const Bsdf bsdf = scene.bsdf(*hit);
+        const StraightThrough straight = chooseStraightThrough(scene, *hit, bsdf, wo, sampler);
+        beta *= straight.weight;
+        if (straight.passes) {
+            ray = Scene::spawnRay(*hit, ray.d);
+            continue;
+        }
+        recordFirstHit(scene, *hit, bsdf, cameraOrigin, firstHit);
+
+        if (bsdf.hasNonDeltaLobe())
+            L += beta * atDiffuseVertex(*hit, bsdf, wo, sampler, counters);
+        if (specularDepth >= settings.maxSpecularDepth)
+            break;
+        const float uLobe = sampler.get1D();
+        const Vec2 uDirection = sampler.get2D();
+        const std::optional<BsdfSample> bs = bsdf.sample(wo, uLobe, uDirection);
+        if (!bs || !bs->isDelta() || !(bs->pdf > 0.0f))
+            break;
+        beta *= bs->f * (std::abs(glm::dot(bs->wi, bsdf.shadingNormal())) / bs->pdf);
+        if (maxComponent(beta) <= 0.0f)
+            break;
+        ray = Scene::spawnRay(*hit, bs->wi);
+        ++specularDepth;
+    }
+    return L;
+}
+
+}  // namespace penumbra
