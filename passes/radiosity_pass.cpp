@@ -2,6 +2,7 @@
 
 #include "core/material.h"
 #include "core/stats.h"
+#include "radiosity/solve_progress.h"
 #include "raytrace/tracing_steps.h"
 
 namespace penumbra {
@@ -25,17 +26,24 @@ RadiosityPass::~RadiosityPass() = default;
 
 void RadiosityPass::prepare(PassContext& context) {
     scene_ = &context.scene;
+    // The solve's stages (meshing, direct light, linking, rounds, sweeps) on standard error.
+    ConsoleSolveProgress progress("radiosity", context.settings.quiet);
+    const auto mesh = [&](const MeshingSettings& meshing) {
+        progress.beginStage("meshing", 0);
+        mesh_ = std::make_shared<RadiosityMesh>(context.scene, meshing);
+        progress.endStage(std::to_string(mesh_->patchCount()) + " patches");
+    };
     if (const auto* hierarchical = std::get_if<RadiositySettings>(&settings_)) {
-        mesh_ =
-            std::make_shared<RadiosityMesh>(context.scene, hierarchical->meshing(context.scene));
+        mesh(hierarchical->meshing(context.scene));
         auto solver = std::make_unique<RadiositySolver>(context.scene, *mesh_, *hierarchical);
-        solver->solve();
+        solver->solve(&progress);
         solution_ = std::move(solver);
     } else {
         const auto& progressive = std::get<ProgressiveSettings>(settings_);
-        mesh_ = std::make_shared<RadiosityMesh>(context.scene, progressive.meshing(context.scene));
-        auto solver = std::make_unique<ProgressiveSolver>(context.scene, *mesh_, progressive);
-        solver->solve();
+        mesh(progressive.meshing(context.scene));
+        auto solver =
+            std::make_unique<ProgressiveSolver>(context.scene, *mesh_, progressive, &progress);
+        solver->solve(&progress);
         solution_ = std::move(solver);
     }
     // The solution refers to the mesh: the product keeps both alive for the passes after.
@@ -89,7 +97,7 @@ bool RadiosityPass::run(PassContext& context) {
     context.contribute(type(), renderer_->film().resolve());
     const auto& aovs = renderer_->aovNames();
     for (size_t a = 0; a < aovs.size(); ++a)
-        context.layers[aovs[a]] = renderer_->film().resolveAov(static_cast<int>(a));
+        context.layers[aovs[a]] = renderer_->resolveAov(a);
     return true;
 }
 

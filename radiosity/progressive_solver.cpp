@@ -102,12 +102,12 @@ void validateProgressiveSettings(const ProgressiveSettings& s) {
 }
 
 ProgressiveSolver::ProgressiveSolver(const Scene& scene, RadiosityMesh& mesh,
-                                     const ProgressiveSettings& settings)
+                                     const ProgressiveSettings& settings, SolveProgress* progress)
     : scene_(scene), mesh_(mesh), settings_(settings) {
     validateProgressiveSettings(settings_);
     const auto start = std::chrono::steady_clock::now();
     splitToReceiverLevel();
-    shootPunctualLights();
+    shootPunctualLights(progress);
     initialPower_ = unshotPower();
     secondsSetup_ = secondsSince(start);
 }
@@ -155,6 +155,8 @@ void ProgressiveSolver::splitToReceiverLevel() {
     const size_t nodes = 2 * mesh_.elementCount();
     L_.assign(nodes, Color(0.0f));
     unshot_.assign(nodes, Color(0.0f));
+    unshotLe_.assign(nodes, Color(0.0f));
+    direct_.assign(nodes, Color(0.0f));
     patchUnshot_.assign(2 * mesh_.patchCount(), Color(0.0f));
 
     // The ambient term's constants: R / sum A with R = 1 / (1 - rho_avg) per channel.
@@ -173,20 +175,26 @@ void ProgressiveSolver::splitToReceiverLevel() {
 // The initial unshot radiance of every receiver side: its emission, plus the punctual lights'
 // direct light after one reflection, rho D: the point sources are the first shooters of CCWG88,
 // all shot at once, with their irradiance sampled over each element as
-// RadiositySolver::computeDirect() does (element_sampling.h).
-void ProgressiveSolver::shootPunctualLights() {
+// RadiositySolver::computeDirect() does (element_sampling.h). rho D is the first part of the
+// direct light (elementDirect); the emission's own first shot adds the rest (shoot).
+void ProgressiveSolver::shootPunctualLights(SolveProgress* progress) {
     const std::vector<const Light*> lights = punctualLights(scene_);
     const int n = settings_.visibilitySamples;
-    tbb::parallel_for(size_t(0), receivers_.size(), [&](size_t i) {
+    if (!lights.empty() && progress)
+        progress->beginStage("direct light of the punctual lights", receivers_.size());
+    parallelForWithProgress(receivers_.size(), lights.empty() ? nullptr : progress, [&](size_t i) {
         const int r = receivers_[i];
         const PunctualDirect direct = punctualDirect(scene_, mesh_, r, lights, n, kDirectSeed);
         for (const bool front : {true, false}) {
             const int nd = node(r, front);
-            const Color L = emission(r, front) + mesh_.rho(r) * direct.D[front ? 0 : 1];
-            L_[nd] = L;
-            unshot_[nd] = L;
+            direct_[nd] = mesh_.rho(r) * direct.D[front ? 0 : 1];
+            unshotLe_[nd] = emission(r, front);
+            L_[nd] = unshotLe_[nd] + direct_[nd];
+            unshot_[nd] = L_[nd];
         }
     });
+    if (!lights.empty() && progress)
+        progress->endStage(std::to_string(receivers_.size()) + " elements");
     rays_ += static_cast<uint64_t>(receivers_.size()) * n * lights.size();
     for (size_t p = 0; p < mesh_.patchCount(); ++p)
         sumUnshot(static_cast<int>(p));
@@ -243,7 +251,8 @@ int ProgressiveSolver::selectShooter() const {
 // F_ji A_i / A_j = rho_j dB_i F_ij", in radiance). F(r -> s) is the exact point-to-polygon form
 // factor from the receiver's centroid (Wallace et al. 1989 evaluate it at the receiving points;
 // exact here instead of their disc approximation), V the visible fraction between the two.
-Color ProgressiveSolver::receive(size_t i, bool receiverFront, const Shot& shot, uint64_t& rays) {
+ProgressiveSolver::Gain ProgressiveSolver::receive(size_t i, bool receiverFront, const Shot& shot,
+                                                   uint64_t& rays) {
     const int r = receivers_[i];
     const int shooter = shot.patch;
     const std::array<Vec3, 3> cs = mesh_.corners(shooter);
@@ -254,14 +263,14 @@ Color ProgressiveSolver::receive(size_t i, bool receiverFront, const Shot& shot,
     // size absorbs the rounding of coplanar neighbours). pointToPolygonFormFactor() clips the
     // shooter to the receiver's side itself; the corner test only saves its cost.
     if (!(glm::dot(ns, x - cs[0]) > 1e-5f * longestEdge(cs)))
-        return Color(0.0f);
+        return {};
     if (std::none_of(cs.begin(), cs.end(),
                      [&](const Vec3& c) { return glm::dot(nr, c - x) > 0.0f; })) {
-        return Color(0.0f);
+        return {};
     }
     const auto F = static_cast<float>(pointToPolygonFormFactor(x, nr, cs));
     if (!(F > 0.0f))
-        return Color(0.0f);
+        return {};
     // The unoccluded gain G, and the number of shadow rays m: all of them for the largest gain
     // this receiver side has had, in proportion to G for smaller ones, rounded up to a power of 2
     // so that the first m points of both sets stay stratified. m proportional to G is the
@@ -269,7 +278,8 @@ Color ProgressiveSolver::receive(size_t i, bool receiverFront, const Shot& shot,
     // (4 m_k), for a given number of rays; it bounds that variance by G_max L / (4 n) (L the
     // reflected radiance, the sum of the G_k), against at least G_max^2 / (4 n) for the first shot
     // alone: it spends the rays where the light is.
-    const Color gain = mesh_.rho(r) * F * sourceRadiance(x, nr, ns, shot);
+    const Gain source = sourceRadiance(x, nr, ns, shot);
+    const Color gain = mesh_.rho(r) * F * source.all;
     const size_t n = shot.samples.size();
     size_t m = n;
     if (settings_.adaptiveVisibility) {
@@ -288,7 +298,7 @@ Color ProgressiveSolver::receive(size_t i, bool receiverFront, const Shot& shot,
         scene_, std::span<const ElementSample>(receiverSamples_).subspan(i * n + b * m, m),
         std::span<const ElementSample>(shot.samples).subspan(b * m, m));
     rays += m;
-    return gain * V;
+    return {gain * V, mesh_.rho(r) * F * source.emitted * V};
 }
 
 // The unshot radiance the receiver point x (normal nr) gets from the shot: not the patch's mean
@@ -300,18 +310,24 @@ Color ProgressiveSolver::receive(size_t i, bool receiverFront, const Shot& shot,
 // Measured against the dense solve of tests/progressive_radiosity_test.cpp (16 elements per
 // patch): the mean difference of an element side drops from 0.78 % to 0.67 % of the mean
 // radiance. The patch mean is the fallback when no element is seen.
-Color ProgressiveSolver::sourceRadiance(const Vec3& x, const Vec3& nr, const Vec3& ns,
-                                        const Shot& shot) const {
+//
+// The emission in the shot (dLe) is weighed in the same way: the shot is linear in dL, so that the
+// emitted part of a gain is the gain of the emitted part.
+ProgressiveSolver::Gain ProgressiveSolver::sourceRadiance(const Vec3& x, const Vec3& nr,
+                                                          const Vec3& ns, const Shot& shot) const {
     if (shot.elements.size() < 2)
-        return shot.dL;
-    Color sum(0.0f);
+        return {shot.dL, shot.dLe};
+    Gain sum;
     double weight = 0.0;
     for (const ShooterElement& e : shot.elements) {
         const double w = diskApproximationFormFactor(x, nr, e.centroid, ns, e.area);
-        sum += static_cast<float>(w) * e.dL;
+        sum.all += static_cast<float>(w) * e.dL;
+        sum.emitted += static_cast<float>(w) * e.dLe;
         weight += w;
     }
-    return weight > 0.0 ? sum / static_cast<float>(weight) : shot.dL;
+    if (!(weight > 0.0))
+        return {shot.dL, shot.dLe};
+    return {sum.all / static_cast<float>(weight), sum.emitted / static_cast<float>(weight)};
 }
 
 void ProgressiveSolver::shoot(int shooterNode) {
@@ -319,12 +335,18 @@ void ProgressiveSolver::shoot(int shooterNode) {
     shot.patch = shooterNode / 2;
     shot.front = shooterNode % 2 == 0;
     shot.dL = patchUnshot_[shooterNode] / mesh_.area(shot.patch);
+    // The emission goes out with the first shot of its side, and only then: that shot's gains
+    // from it are the direct light (paths L D), everything shot later is reflected light.
     for (size_t i = patchReceivers_[shot.patch]; i < patchReceivers_[shot.patch + 1]; ++i) {
         const int e = receivers_[i];
         Color& dL = unshot_[node(e, shot.front)];
-        shot.elements.push_back({mesh_.centroid(e), mesh_.area(e), dL});
+        Color& dLe = unshotLe_[node(e, shot.front)];
+        shot.elements.push_back({mesh_.centroid(e), mesh_.area(e), dL, dLe});
+        shot.dLe += mesh_.area(e) * dLe;
         dL = Color(0.0f);
+        dLe = Color(0.0f);
     }
+    shot.dLe /= mesh_.area(shot.patch);
     patchUnshot_[shooterNode] = Color(0.0f);
 
     // One set of stratified points on the shooter per shot, which every receiver pairs with its
@@ -344,10 +366,11 @@ void ProgressiveSolver::shoot(int shooterNode) {
         for (size_t i = patchReceivers_[p]; i < patchReceivers_[p + 1]; ++i) {
             const int r = receivers_[i];
             for (const bool front : {true, false}) {
-                const Color gain = receive(i, front, shot, rays.local());
-                if (maxComponent(gain) > 0.0f) {
-                    L_[node(r, front)] += gain;
-                    unshot_[node(r, front)] += gain;
+                const Gain gain = receive(i, front, shot, rays.local());
+                if (maxComponent(gain.all) > 0.0f) {
+                    L_[node(r, front)] += gain.all;
+                    unshot_[node(r, front)] += gain.all;
+                    direct_[node(r, front)] += gain.emitted;
                     received = true;
                 }
             }
@@ -371,14 +394,52 @@ bool ProgressiveSolver::step(int shots) {
     return finished();
 }
 
-void ProgressiveSolver::solve() {
-    while (!step(64)) {
+// The shooting stage's progress: the unshot power's way down on a log scale, from 1 to the
+// threshold (it falls roughly geometrically, so the bar moves at a steady rate), or the share of
+// max_shots made, whichever is further.
+void ProgressiveSolver::solve(SolveProgress* progress) {
+    constexpr uint64_t kUnits = 1000;
+    if (progress)
+        progress->beginStage("shooting", kUnits);
+    uint64_t reported = 0;
+    bool done = finished();
+    while (!done) {
+        done = step(1);
+        if (!progress)
+            continue;
+        const double unshot = unshotFraction();
+        double f = unshot > 0.0 ? std::log(unshot) / std::log(settings_.threshold) : 1.0;
+        f = std::clamp(std::max(f, static_cast<double>(shots_) / settings_.maxShots), 0.0, 1.0);
+        const auto units = done ? kUnits : static_cast<uint64_t>(f * kUnits);
+        if (units > reported) {
+            progress->advance(units - reported);
+            reported = units;
+        }
+    }
+    if (progress) {
+        std::ostringstream summary;
+        summary.precision(3);
+        summary << shots_ << " shots, unshot fraction " << unshotFraction()
+                << (converged() ? "" : ", not converged");
+        progress->endStage(summary.str());
+        progress->beginStage("vertex values", 0);
     }
     updateVertexValues();
+    if (progress)
+        progress->endStage(std::to_string(mesh_.vertexCount()) + " vertices");
+}
+
+Color ProgressiveSolver::elementIndirect(int e, bool front) const {
+    const int n = node(e, front);
+    return glm::max(L_[n] - emission(e, front) - direct_[n], Color(0.0f));
 }
 
 void ProgressiveSolver::updateVertexValues() {
     const Color ambientL = settings_.ambient ? ambient() : Color(0.0f);
+    vertexIndirect_.compute(mesh_, [&](int e, bool front) {
+        return elementIndirect(e, front) + mesh_.rho(e) * ambientL;
+    });
+    // The whole reflected radiance last, so that the mesh is left with its front's values.
     vertexDisplayed_.compute(mesh_, [&](int e, bool front) {
         return glm::max(L_[node(e, front)] - emission(e, front), Color(0.0f)) +
                mesh_.rho(e) * ambientL;
@@ -396,13 +457,28 @@ Color ProgressiveSolver::radiance(uint32_t mesh, uint32_t triangle, Vec3 b, bool
     return L;
 }
 
+Color ProgressiveSolver::indirectRadiance(uint32_t mesh, uint32_t triangle, Vec3 b,
+                                          bool front) const {
+    return vertexIndirect_.interpolate(mesh_, mesh_.locate(mesh, triangle, b), front);
+}
+
 PassStats ProgressiveSolver::stats() const {
+    // The reflected luminous flux of each part, pi sum A Y(L) over the receiver sides (lm).
+    double directFlux = 0.0, indirectFlux = 0.0;
+    for (const int r : receivers_) {
+        for (const bool front : {true, false}) {
+            directFlux += kPi * mesh_.area(r) * luminance(elementDirect(r, front));
+            indirectFlux += kPi * mesh_.area(r) * luminance(elementIndirect(r, front));
+        }
+    }
     return {{"patches", std::to_string(mesh_.patchCount())},
             {"elements", std::to_string(receivers_.size())},
             {"shots", std::to_string(shots_)},
             {"rays", std::to_string(rays_)},
             {"unshot_fraction", formatStat(unshotFraction())},
             {"converged", converged() ? "yes" : "no"},
+            {"direct_flux_lm", formatStat(directFlux)},
+            {"indirect_flux_lm", formatStat(indirectFlux)},
             {"seconds_setup", formatStat(secondsSetup_)},
             {"seconds_shooting", formatStat(secondsShooting_)},
             {"seconds", formatStat(secondsSetup_ + secondsShooting_)}};

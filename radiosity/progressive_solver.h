@@ -10,7 +10,9 @@
 // two-sided material, thin glass passes shadow rays with its transmittance. It approximates the
 // same equation, L_i = Le_i + rho_i (D_i + sum_j F_ij V_ij L_j), from below: every shot adds
 // light, and what is missing is the future interreflection of the unshot power U, at most
-// U rho_max / (1 - rho_max) of reflected flux.
+// U rho_max / (1 - rho_max) of reflected flux. The first reflection of the sources (paths L D E)
+// is kept apart for indirectRadiance(): the punctual lights' rho D, and what each patch side's
+// first shot carries of its own emission (an emitter shoots its emission once, in its first shot).
 //
 // Substructuring (Cohen, Greenberg, Immel and Brock 1986, "An Efficient Radiosity Approach for
 // Realistic Image Synthesis"): the shooters are the mesh's patches, each with the unshot radiance
@@ -30,6 +32,7 @@
 #include "radiosity/element_sampling.h"
 #include "radiosity/radiosity_mesh.h"
 #include "radiosity/radiosity_solution.h"
+#include "radiosity/solve_progress.h"
 #include "radiosity/vertex_values.h"
 
 #include <cstdint>
@@ -74,12 +77,15 @@ class ProgressiveSolver : public RadiositySolution {
     // (their direct light into every element, the first step of CCWG88 with point sources).
     // The scene and the mesh, made with settings.meshing(scene), must outlive the solver; the
     // mesh must not be split by anyone else afterwards. Throws UsageError for bad settings.
-    ProgressiveSolver(const Scene& scene, RadiosityMesh& mesh, const ProgressiveSettings& settings);
+    // Reports the punctual lights' stage to `progress` if given (solve_progress.h).
+    ProgressiveSolver(const Scene& scene, RadiosityMesh& mesh, const ProgressiveSettings& settings,
+                      SolveProgress* progress = nullptr);
 
     // Performs up to `shots` shots; returns finished().
     bool step(int shots = 1);
-    // Steps until finished(), then updateVertexValues().
-    void solve();
+    // Steps until finished(), then updateVertexValues(). Reports the shooting and the vertex
+    // values as stages to `progress` if given.
+    void solve(SolveProgress* progress = nullptr);
     // The unshot power is below the threshold (converged()) or maxShots were made.
     bool finished() const { return converged() || shots_ >= settings_.maxShots; }
     bool converged() const { return unshotFraction() < settings_.threshold; }
@@ -92,10 +98,22 @@ class ProgressiveSolver : public RadiositySolution {
     // added to the reflected part if ProgressiveSettings::ambient. Zero before the first call.
     Color radiance(uint32_t mesh, uint32_t triangle, Vec3 b, bool includeEmission,
                    bool front = true) const override;
+    // RadiositySolution: the values of the last updateVertexValues() of elementIndirect(), with
+    // rho times ambient() added if ProgressiveSettings::ambient (the ambient term stands for
+    // interreflection still to come, which is indirect once every source has shot).
+    Color indirectRadiance(uint32_t mesh, uint32_t triangle, Vec3 b,
+                           bool front = true) const override;
 
     // The element side's own (flat) radiance received so far, emission included, no ambient
     // term; zero for an element above the receiver level.
     Color elementRadiance(int element, bool front = true) const { return L_[node(element, front)]; }
+    // Its first reflection of the sources' light so far, rho D plus what each source's first
+    // shot of its own emission brought (paths L D E), and the rest of its reflected light,
+    // max(0, L - Le - direct) (paths L D D+ E); no ambient term in either.
+    Color elementDirect(int element, bool front = true) const {
+        return direct_[node(element, front)];
+    }
+    Color elementIndirect(int element, bool front = true) const;
     // The ambient radiance of CCWG88: the unshot power spread evenly over the scene and
     // interreflected with the mean reflectance, R sum_j A_j dL_j / sum_j A_j, with
     // R = 1 / (1 - rho_avg) and rho_avg the area-weighted mean reflectance, per channel. The scene
@@ -116,7 +134,8 @@ class ProgressiveSolver : public RadiositySolution {
     const std::vector<int>& receivers() const { return receivers_; }
 
     // patches, elements (receivers), shots, rays, unshot fraction, converged, seconds per stage
-    // (setup: splitting and the punctual lights; shooting) and in all.
+    // (setup: splitting and the punctual lights; shooting) and in all, and the reflected luminous
+    // flux (pi sum_i A_i Y(L_i) over receiver sides, lm) of the direct and of the indirect part.
     PassStats stats() const override;
 
   private:
@@ -126,7 +145,7 @@ class ProgressiveSolver : public RadiositySolution {
     Color emission(int element, bool front) const;
 
     void splitToReceiverLevel();
-    void shootPunctualLights();
+    void shootPunctualLights(SolveProgress* progress);
     // The patch side with the most unshot power, -1 if none has any.
     int selectShooter() const;
     void shoot(int shooter);
@@ -136,19 +155,26 @@ class ProgressiveSolver : public RadiositySolution {
         Vec3 centroid;
         float area;
         Color dL;
+        Color dLe;  // the part of dL that is its own emission, shot for the first time
+    };
+    // What a receiver point gets from a shot, in all and from the emission in it.
+    struct Gain {
+        Color all{0.0f}, emitted{0.0f};
     };
     struct Shot {
         int patch = -1;
         bool front = true;
-        Color dL{0.0f};  // the area mean of the elements' dL
+        Color dL{0.0f};   // the area mean of the elements' dL
+        Color dLe{0.0f};  // and of their dLe
         std::vector<ShooterElement> elements;
         std::vector<ElementSample> samples;
     };
     // The shooter's unshot radiance as seen from receiver point x (normal nr); ns: the shooting
     // side's normal.
-    Color sourceRadiance(const Vec3& x, const Vec3& nr, const Vec3& ns, const Shot& shot) const;
-    // The radiance the side of receiver i (receivers_[i]) gains from the shot: rho F V dL.
-    Color receive(size_t i, bool receiverFront, const Shot& shot, uint64_t& rays);
+    Gain sourceRadiance(const Vec3& x, const Vec3& nr, const Vec3& ns, const Shot& shot) const;
+    // The radiance the side of receiver i (receivers_[i]) gains from the shot, rho F V dL, and
+    // the part of it that the shooter's emission brings, rho F V dLe.
+    Gain receive(size_t i, bool receiverFront, const Shot& shot, uint64_t& rays);
     // Recomputes the patch side's unshot sum from its elements.
     void sumUnshot(int patch);
 
@@ -163,11 +189,14 @@ class ProgressiveSolver : public RadiositySolution {
     std::vector<float> gainMax_;      // per receiver side: the largest unoccluded gain so far
     std::vector<Color> L_;            // per node: radiance leaving, emission included
     std::vector<Color> unshot_;       // per node of a receiver: radiance not yet shot
+    std::vector<Color> unshotLe_;     // per node of a receiver: emission not yet shot
+    std::vector<Color> direct_;       // per node of a receiver: elementDirect()
     std::vector<Color> patchUnshot_;  // per patch node: sum of A dL over its receivers
     double initialPower_ = 0.0;
     double receiverArea_ = 0.0;         // sum of the receivers' areas, each counted once
     Color ambientFactor_{0.0f};         // R / sum A of the ambient term, per channel
     SideVertexValues vertexDisplayed_;  // the displayed reflected radiance, per side and vertex
+    SideVertexValues vertexIndirect_;   // its indirect part, displayed
     int shots_ = 0;
     uint64_t rays_ = 0;
     double secondsSetup_ = 0.0, secondsShooting_ = 0.0;

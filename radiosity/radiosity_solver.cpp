@@ -63,6 +63,9 @@ constexpr double kRoundConvergence = 2e-2;
 // as the area-weighted L1 change of one element's last bit is smaller still.
 constexpr double kRoundingChange = 0.1 * std::numeric_limits<float>::epsilon();
 
+// Units of a gather stage's progress (iterate): the fraction of the way to the threshold.
+constexpr uint64_t kGatherProgressUnits = 1000;
+
 // Passes of adaptive subdivision (subdivision_threshold) after the refinement rounds.
 constexpr int kSubdivisionPasses = 4;
 
@@ -413,12 +416,12 @@ Color RadiositySolver::visibility(int receiver, int source, uint64_t& rays, bool
 // radiance of the Lambertian element: the punctual lights "shoot" into the elements before the
 // gather starts (as the sources of the first step of progressive radiosity, Cohen, Chen, Wallace
 // and Greenberg 1988).
-void RadiositySolver::computeDirect(const std::vector<int>& elements) {
+void RadiositySolver::computeDirect(const std::vector<int>& elements, bool report) {
     const std::vector<const Light*> lights = punctualLights(scene_);
     if (lights.empty() || elements.empty())
         return;
     const int n = settings_.visibilitySamples;
-    tbb::parallel_for(size_t(0), elements.size(), [&](size_t i) {
+    parallelForWithProgress(elements.size(), report ? progress_ : nullptr, [&](size_t i) {
         const int e = elements[i];
         const PunctualDirect direct = punctualDirect(scene_, mesh_, e, lights, n, kDirectSeed);
         for (int side = 0; side < 2; ++side) {
@@ -516,6 +519,7 @@ float RadiositySolver::KernelSamples::spread(float limiter) const {
 // sequential. The links made are the same.
 void RadiositySolver::refine(std::vector<RefinePair> batch, std::vector<PendingLink>& pending) {
     while (!batch.empty()) {
+        advanceStage(batch.size());  // the oracle's stage counts the pairs it examines
         std::vector<KernelSamples> samples(batch.size());
         std::vector<char> interacts(batch.size(), 0);
         tbb::parallel_for(size_t(0), batch.size(), [&](size_t i) {
@@ -609,8 +613,14 @@ void RadiositySolver::evaluateLinks(const std::vector<PendingLink>& pending) {
     std::vector<float> F(n, 0.0f), Fmax(n, 0.0f), spread(n, 0.0f);
     std::vector<Color> V(n, Color(0.0f));
 
+    // The form factors and shadow rays are most of a refinement's time: the stage's bar counts
+    // the pending links.
+    if (n > 0) {
+        endStage(std::to_string(n) + " links to evaluate");  // the oracle's stage
+        beginStage(step_ + ": form factors and visibility", n);
+    }
     tbb::combinable<uint64_t> rays([] { return uint64_t(0); });
-    tbb::parallel_for(size_t(0), n, [&](size_t i) {
+    parallelForWithProgress(n, progress_, [&](size_t i) {
         if (!primary[i])
             return;
         const PendingLink& p = pending[i];
@@ -1267,10 +1277,27 @@ double RadiositySolver::sweep() {
 // successive changes is 1 and the estimate infinite (seen in a furnace with a block on its floor,
 // refined further than by the defaults: one element's last bit alternated for all 5000 sweeps of
 // max_iterations).
-void RadiositySolver::iterate(double threshold, int round) {
+void RadiositySolver::iterate(double threshold, int round, const std::string& stage) {
+    beginStage(stage, kGatherProgressUnits);
     updateSourceWeights();
     std::vector<double> changes;
     converged_ = false;
+    // The bar measures the error's way down on a log scale, from the first sweep's change to the
+    // threshold: the error of a contraction falls geometrically, so the bar moves at a steady rate
+    // and its ETA holds.
+    const size_t firstSweep = iterations_.size();
+    uint64_t reported = 0;
+    const auto report = [&](double error) {
+        const double first = changes.front();
+        double f = 1.0;
+        if (error > threshold && first > threshold)
+            f = std::clamp(std::log(first / error) / std::log(first / threshold), 0.0, 1.0);
+        const auto units = static_cast<uint64_t>(f * kGatherProgressUnits);
+        if (units > reported) {
+            advanceStage(units - reported);
+            reported = units;
+        }
+    };
     while (iterations_.size() < static_cast<size_t>(settings_.maxIterations)) {
         RadiosityIteration it;
         it.round = round;
@@ -1287,18 +1314,105 @@ void RadiositySolver::iterate(double threshold, int round) {
                 it.errorBound = it.change * q / (1.0 - q);
         }
         iterations_.push_back(it);
+        report(std::isfinite(it.errorBound) ? it.errorBound : it.change);
         if (it.errorBound < threshold) {
             converged_ = true;
-            return;
+            break;
         }
     }
+    std::ostringstream summary;
+    summary.precision(3);
+    const size_t sweeps = iterations_.size() - firstSweep;
+    summary << sweeps << (sweeps == 1 ? " sweep" : " sweeps") << ", residual "
+            << (iterations_.empty() ? 0.0 : iterations_.back().change) << ", error bound "
+            << (iterations_.empty() ? 0.0 : iterations_.back().errorBound)
+            << (converged_ ? "" : ", not converged");
+    endStage(summary.str());
+}
+
+// The first reflection of the sources' light, for indirectRadiance(): what each leaf side gathers
+// from the emission alone, through its own links and its ancestors', plus the punctual lights'
+// direct light, times rho: direct_i = rho_i (D_i + sum_j K_ij Le_j), pushed and pulled like the
+// whole solution. The indirect part L - Le - direct is then the solution's light that has been
+// reflected at least twice (paths L D D+), by the same links, form factors and visibility as the
+// solution itself, so that a ray tracer adding its own direct light back counts every path once
+// (the two-pass method of Wallace, Cohen and Greenberg 1987; Sillion and Puech 1989).
+//
+// It is one Jacobi sweep of the machinery the solution uses, run on the emission: the solution is
+// set aside, the emission is pushed and pulled to every node (a gather of nothing, with D = 0),
+// every node gathers from it, the push-pull forms Le + rho (D + H_e) at the leaves, and the
+// solution is put back. The cost is one sweep.
+void RadiositySolver::computeDirectPart() {
+    std::vector<Color> L = L_, H = H_, clusterL = clusterL_, clusterH = clusterH_;
+    std::vector<Mat3> G = G_, clusterW = clusterW_;
+    std::vector<float> Lmin = Lmin_, Lmax = Lmax_, clusterLmin = clusterLmin_,
+                       clusterLmax = clusterLmax_;
+    // The emission at every node (a parent's: its leaves' area mean, as a source shows it).
+    std::vector<Color> D(D_.size(), Color(0.0f));
+    std::swap(D, D_);
+    std::fill(H_.begin(), H_.end(), Color(0.0f));
+    std::fill(G_.begin(), G_.end(), Mat3(0.0f));
+    std::fill(clusterH_.begin(), clusterH_.end(), Color(0.0f));
+    std::fill(clusterW_.begin(), clusterW_.end(), Mat3(0.0f));
+    pushPullAll();
+    std::swap(D, D_);
+    // Every node gathers from the emission; then Le + rho (D + H_e) at the leaves.
+    tbb::parallel_for(size_t(0), links_.size(), [&](size_t n) { gather(static_cast<int>(n)); });
+    tbb::parallel_for(size_t(0), clusterLinks_.size(),
+                      [&](size_t c) { gatherCluster(static_cast<int>(c)); });
+    pushPullAll();
+    direct_.assign(L_.size(), Color(0.0f));
+    for (size_t n = 0; n < L_.size(); ++n) {
+        if (mesh_.isLeaf(element(static_cast<int>(n))))
+            direct_[n] = glm::max(L_[n] - emission(static_cast<int>(n)), Color(0.0f));
+    }
+    L_ = std::move(L);
+    H_ = std::move(H);
+    G_ = std::move(G);
+    Lmin_ = std::move(Lmin);
+    Lmax_ = std::move(Lmax);
+    clusterL_ = std::move(clusterL);
+    clusterH_ = std::move(clusterH);
+    clusterW_ = std::move(clusterW);
+    clusterLmin_ = std::move(clusterLmin);
+    clusterLmax_ = std::move(clusterLmax);
+}
+
+Color RadiositySolver::elementDirect(int e, bool side) const {
+    const auto n = static_cast<size_t>(node(e, side));
+    return n < direct_.size() ? direct_[n] : Color(0.0f);
+}
+
+Color RadiositySolver::elementIndirect(int e, bool side) const {
+    const int n = node(e, side);
+    if (static_cast<size_t>(n) >= direct_.size() || !mesh_.isLeaf(e))
+        return Color(0.0f);
+    return glm::max(L_[n] - emission(n) - direct_[n], Color(0.0f));
 }
 
 void RadiositySolver::computeVertexValues() {
+    // The whole reflected radiance last, so that the mesh is left with the front's reflected
+    // radiance.
+    vertexIndirect_.compute(mesh_, [this](int e, bool side) { return elementIndirect(e, side); });
     vertexReflected_.compute(mesh_, [this](int element, bool side) {
         const int n = node(element, side);
         return glm::max(L_[n] - emission(n), Color(0.0f));
     });
+}
+
+void RadiositySolver::beginStage(const std::string& name, uint64_t total) {
+    if (progress_)
+        progress_->beginStage(name, total);
+}
+
+void RadiositySolver::advanceStage(uint64_t work) {
+    if (progress_)
+        progress_->advance(work);
+}
+
+void RadiositySolver::endStage(const std::string& summary) {
+    if (progress_)
+        progress_->endStage(summary);
 }
 
 // --- The whole solution ------------------------------------------------------------------------
@@ -1306,8 +1420,13 @@ void RadiositySolver::computeVertexValues() {
 // HSA91's "HierarchicalRadiosity" with brightness-weighted refinement: link the patches with the
 // oracle on the initial radiance (emission and punctual direct light), then alternate solving and
 // refining the links with the current radiance until nothing is refined.
-void RadiositySolver::solve() {
+void RadiositySolver::solve(SolveProgress* progress) {
+    progress_ = progress;
     const auto start = std::chrono::steady_clock::now();
+    const auto linksAndLeaves = [&] {
+        return std::to_string(linkCount()) + " links, " + std::to_string(mesh_.leafCount()) +
+               " leaves";
+    };
 
     // Stage 1: the punctual lights' direct light; the initial radiance is Le + rho D.
     std::vector<int> leaves;
@@ -1315,36 +1434,47 @@ void RadiositySolver::solve() {
         if (mesh_.isLeaf(static_cast<int>(e)))
             leaves.push_back(static_cast<int>(e));
     }
-    computeDirect(leaves);
+    const bool punctual = !punctualLights(scene_).empty();
+    if (punctual)
+        beginStage("direct light of the punctual lights", leaves.size());
+    computeDirect(leaves, true);
     pushPullAll();
     refineDirect();
     pushPullAll();
+    if (punctual)
+        endStage(std::to_string(mesh_.leafCount()) + " leaves");
     secondsDirect_ = secondsSince(start);
     peakDirect_ = peakMemoryMiB();
 
-    // Stage 2: initial links between the patches.
+    // Stage 2: initial links between the patches (the oracle, then the links' form factors).
     auto stageStart = std::chrono::steady_clock::now();
+    step_ = "linking";
+    beginStage("linking: refinement oracle", 0);
     linkPatches();
+    endStage(linksAndLeaves());
     secondsLinking_ = secondsSince(stageStart);
     peakLinking_ = peakMemoryMiB();
 
     // Stage 3: gather sweeps and refinement rounds.
     const double roundThreshold = std::max(settings_.convergence, kRoundConvergence);
     stageStart = std::chrono::steady_clock::now();
-    iterate(roundThreshold, 0);
+    iterate(roundThreshold, 0, "gather");
     secondsSolve_ += secondsSince(stageStart);
     // One refinement step, then, if it changed anything, the solve of the new round.
     int round = 0;
-    const auto step = [&](const auto& refineStep) {
+    const auto step = [&](const std::string& name, const auto& refineStep) {
         stageStart = std::chrono::steady_clock::now();
+        step_ = name + " " + std::to_string(round + 1);
+        beginStage(step_ + ": refinement oracle", 0);
         const bool refined = refineStep();
+        endStage(refined ? linksAndLeaves() : "nothing to refine");
         secondsRefine_ += secondsSince(stageStart);
         peakRefine_ = peakMemoryMiB();
         if (!refined)
             return false;
         rounds_ = ++round;
         stageStart = std::chrono::steady_clock::now();
-        iterate(roundThreshold, round);
+        iterate(roundThreshold, round, "gather, round " + std::to_string(round));
         secondsSolve_ += secondsSince(stageStart);
         return true;
     };
@@ -1352,20 +1482,24 @@ void RadiositySolver::solve() {
         const bool links = refineLinks();
         return refineDirect() || links;
     };
-    while (round < settings_.maxRefinements && step(refineRound)) {
+    while (round < settings_.maxRefinements && step("refinement round", refineRound)) {
     }
     // Adaptive subdivision by contrast with the neighbours (subdivision_threshold).
     const auto subdivide = [&] { return subdivideByContrast(); };
     for (int pass = 0; pass < kSubdivisionPasses && settings_.subdivisionThreshold > 0.0f; ++pass) {
-        if (!step(subdivide))
+        if (!step("subdivision round", subdivide))
             break;
     }
     stageStart = std::chrono::steady_clock::now();
-    iterate(settings_.convergence, round);
+    iterate(settings_.convergence, round, "gather to convergence");
+    beginStage("push-pull of the direct part, vertex values", 0);
+    computeDirectPart();
     computeVertexValues();
+    endStage(std::to_string(mesh_.vertexCount()) + " vertices");
     secondsSolve_ += secondsSince(stageStart);
     secondsTotal_ = secondsSince(start);
     peakSolve_ = peakMemoryMiB();
+    progress_ = nullptr;
 }
 
 Color RadiositySolver::radiance(uint32_t mesh, uint32_t triangle, Vec3 b, bool includeEmission,
@@ -1377,6 +1511,11 @@ Color RadiositySolver::radiance(uint32_t mesh, uint32_t triangle, Vec3 b, bool i
     if (includeEmission)
         L += emission(node(point.element, front));
     return L;
+}
+
+Color RadiositySolver::indirectRadiance(uint32_t mesh, uint32_t triangle, Vec3 b,
+                                        bool front) const {
+    return vertexIndirect_.interpolate(mesh_, mesh_.locate(mesh, triangle, b), front);
 }
 
 // --- The dense reference ---------------------------------------------------------------------
@@ -1439,8 +1578,20 @@ PassStats RadiositySolver::stats() const {
     size_t memory = mesh.memoryBytes + links * sizeof(Link) +
                     links_.size() * (sizeof(std::vector<Link>) + 3 * sizeof(Color)) +
                     clusterLinks_.size() * (sizeof(Cluster) + sizeof(std::vector<Link>));
-    memory += vertexReflected_.memoryBytes();
+    memory += vertexReflected_.memoryBytes() + vertexIndirect_.memoryBytes() +
+              direct_.size() * sizeof(Color);
     const RadiosityIteration last = iterations_.empty() ? RadiosityIteration{} : iterations_.back();
+    // The reflected luminous flux of each part, pi sum A Y(L) over the leaf sides (lm).
+    double directFlux = 0.0, indirectFlux = 0.0;
+    for (size_t e = 0; e < mesh_.elementCount(); ++e) {
+        const int element = static_cast<int>(e);
+        if (!mesh_.isLeaf(element))
+            continue;
+        for (const bool side : {true, false}) {
+            directFlux += kPi * mesh_.area(element) * luminance(elementDirect(element, side));
+            indirectFlux += kPi * mesh_.area(element) * luminance(elementIndirect(element, side));
+        }
+    }
     return {{"patches", std::to_string(mesh.patches)},
             {"elements", std::to_string(mesh.elements)},
             {"leaves", std::to_string(mesh.leaves)},
@@ -1453,6 +1604,8 @@ PassStats RadiositySolver::stats() const {
             {"error_bound", formatStat(last.errorBound)},
             {"converged", converged_ ? "yes" : "no"},
             {"rays", std::to_string(rays_)},
+            {"direct_flux_lm", formatStat(directFlux)},
+            {"indirect_flux_lm", formatStat(indirectFlux)},
             {"memory_mib", formatStat(static_cast<double>(memory) / (1024.0 * 1024.0))},
             {"seconds_direct", formatStat(secondsDirect_)},
             {"seconds_linking", formatStat(secondsLinking_)},

@@ -6,7 +6,10 @@
 // bounces, i.e. the paths L D* E ending on the element, with the direct light of the emissive
 // elements and of the punctual lights (point, spot, directional) included. Only the Lambertian
 // layer of each material takes part (rho = Bsdf::diffuseReflectance()); what the specular and
-// transmissive layers carry is left to the ray-tracing passes. Surfaces the mesh does not hold
+// transmissive layers carry is left to the ray-tracing passes. The solution also splits the
+// reflected light into the first reflection of the sources (paths L D E: Le of the emissive
+// elements and the punctual lights, reflected once) and the rest (L D D+ E), for the two-pass
+// pipelines that trace the first themselves (indirectRadiance). Surfaces the mesh does not hold
 // (transmissive materials) are neither sources nor receivers, but block nothing either when they
 // are thin-walled: shadow rays pass through them as Scene::transmittance() says.
 //
@@ -38,6 +41,7 @@
 #include "radiosity/cluster_tree.h"
 #include "radiosity/radiosity_mesh.h"
 #include "radiosity/radiosity_solution.h"
+#include "radiosity/solve_progress.h"
 #include "radiosity/vertex_values.h"
 
 #include <algorithm>
@@ -107,9 +111,10 @@ class RadiositySolver : public RadiositySolution {
     RadiositySolver(const Scene& scene, RadiosityMesh& mesh, const RadiositySettings& settings);
 
     // Direct light, initial linking, then gather sweeps alternating with refinement until nothing
-    // is refined and the iteration has converged (or maxIterations). Leaves the mesh's
-    // setElementValues() at the front side's reflected radiance.
-    void solve();
+    // is refined and the iteration has converged (or maxIterations); then the direct part
+    // (indirectRadiance) and the vertex values. Leaves the mesh's setElementValues() at the front
+    // side's reflected radiance. Reports its stages to `progress` if given (solve_progress.h).
+    void solve(SolveProgress* progress = nullptr);
 
     // Radiance (cd/m²) leaving the surface at barycentric b of scene triangle (mesh, triangle)
     // on its front (or back) side: the Gouraud interpolation of the reflected part
@@ -117,8 +122,17 @@ class RadiositySolver : public RadiositySolution {
     // Zero on a triangle the mesh does not hold.
     Color radiance(uint32_t mesh, uint32_t triangle, Vec3 b, bool includeEmission,
                    bool front = true) const override;
+    // RadiositySolution: the Gouraud interpolation of elementIndirect().
+    Color indirectRadiance(uint32_t mesh, uint32_t triangle, Vec3 b,
+                           bool front = true) const override;
     // The element side's own (flat, not interpolated) radiance, emission included.
     Color elementRadiance(int element, bool front = true) const { return L_[node(element, front)]; }
+    // The first reflection of the sources' light on a leaf side, rho (D + sum_j K_ij Le_j) with
+    // the links of the leaf and of its ancestors (computeDirectPart), and the rest of its
+    // reflected light, max(0, L - Le - direct): the paths L D E and L D D+ E ending there (cd/m²).
+    // Zero before solve() ends and for elements that are not leaves.
+    Color elementDirect(int element, bool front = true) const;
+    Color elementIndirect(int element, bool front = true) const;
 
     // For comparison: the same equation solved over all pairs of leaf sides of the current mesh
     // with a dense matrix (Gauss-Seidel until the relative change is below 1e-9), with form
@@ -133,8 +147,9 @@ class RadiositySolver : public RadiositySolution {
     // ("iterations"), the last relative change ("residual") and error bound, rays, a memory
     // estimate, and seconds per stage: direct (the punctual lights' first shot), linking (initial
     // links), refine (the rounds), solve (the sweeps); form_factors is the part of linking and
-    // refine spent on the form factors and visibility of new links; and the process's peak resident
-    // memory (getrusage ru_maxrss, MiB) at the end of each stage.
+    // refine spent on the form factors and visibility of new links; the process's peak resident
+    // memory (getrusage ru_maxrss, MiB) at the end of each stage; and the reflected luminous flux
+    // (pi sum_i A_i Y(L_i) over leaf sides, lm) of the direct part and of the indirect part.
     PassStats stats() const override;
 
   private:
@@ -235,7 +250,8 @@ class RadiositySolver : public RadiositySolution {
     bool refineDirect();
     bool subdivideByContrast();
     double refinementThreshold() const;
-    void computeDirect(const std::vector<int>& elements);
+    // With `report`, advances the current stage by one per element.
+    void computeDirect(const std::vector<int>& elements, bool report = false);
     // Solution (HSA91 GatherRad, PushPullRad).
     void setSourceWeights(int receiver, Link& link) const;
     void updateSourceWeights();
@@ -248,8 +264,14 @@ class RadiositySolver : public RadiositySolution {
     void pushPullAll();
     Color pushPull(int node, const Color& Hdown, const Mat3& Gdown, ChangeSums& sums);
     double sweep();
-    void iterate(double threshold, int round);
+    // Reports itself as the progress stage `stage`.
+    void iterate(double threshold, int round, const std::string& stage);
+    void computeDirectPart();
     void computeVertexValues();
+    // The progress sink of solve(), if any (these do nothing without one).
+    void beginStage(const std::string& name, uint64_t total);
+    void advanceStage(uint64_t work);
+    void endStage(const std::string& summary);
     // Form factor and visible fraction between two nodes.
     bool mayInteract(int receiver, int source) const;
     // With `samples` (the pair's KernelSamples), a far pair takes a cheaper rule.
@@ -271,6 +293,7 @@ class RadiositySolver : public RadiositySolution {
     std::vector<float> Lmin_, Lmax_;  // range of max(L) over the node's leaves
     std::vector<Color> D_;            // punctual direct irradiance / pi, averaged over the element
     std::vector<float> Dspread_;      // spread of max(D) over the element's sample points
+    std::vector<Color> direct_;       // the first reflection of the sources (elementDirect)
     std::vector<std::vector<Link>> links_;  // links gathered by this node
 
     // Per cluster (empty without clustering).
@@ -286,7 +309,10 @@ class RadiositySolver : public RadiositySolution {
     std::vector<RadiosityIteration> iterations_;
     bool converged_ = false;
     int rounds_ = 0;
-    SideVertexValues vertexReflected_;  // the reflected radiance, per mesh vertex and side
+    SideVertexValues vertexReflected_;   // the reflected radiance, per mesh vertex and side
+    SideVertexValues vertexIndirect_;    // its indirect part (elementIndirect)
+    SolveProgress* progress_ = nullptr;  // during solve() only
+    std::string step_;                   // what solve() does now, to name the stages of links
     uint64_t rays_ = 0;
     size_t refinedLinks_ = 0;
     double secondsDirect_ = 0, secondsLinking_ = 0, secondsLinks_ = 0, secondsSolve_ = 0,

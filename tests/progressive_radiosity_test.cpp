@@ -66,22 +66,36 @@ TEST_P(ProgressiveFurnaceBox, EveryElementGivesLeOverOneMinusRho) {
     solver.solve();
 
     const double expected = 1.0 / (1.0 - static_cast<double>(mesh.rho(0).g));
-    double maxError = 0.0;
+    // The indirect-only solution (paths L D D+): L less Le and less the first reflection of the
+    // sources, rho Le (every receiver sees the whole closed box), i.e. Le rho^2 / (1 - rho);
+    // its errors are taken relative to L, as the furnace's.
+    const double rhoWall = mesh.rho(0).g;
+    const double indirect = rhoWall * rhoWall / (1.0 - rhoWall);
+    double maxError = 0.0, maxIndirectError = 0.0, maxDirectError = 0.0;
     for (const int r : solver.receivers()) {
         const Color L = solver.elementRadiance(r, true);
-        for (int c = 0; c < 3; ++c)
+        const Color direct = solver.elementDirect(r, true);
+        const Color rest = solver.elementIndirect(r, true);
+        for (int c = 0; c < 3; ++c) {
             maxError = std::max(maxError, std::abs(L[c] / expected - 1.0));
+            maxIndirectError = std::max(maxIndirectError, std::abs(rest[c] - indirect) / expected);
+            maxDirectError = std::max(maxDirectError, std::abs(direct[c] / rhoWall - 1.0));
+        }
         // Nothing lies behind the walls.
         EXPECT_EQ(solver.elementRadiance(r, false), Color(0.0f));
     }
     std::cout << "rho " << rho << ": " << mesh.patchCount() << " patches, "
               << solver.receivers().size() << " elements, " << solver.shots()
               << " shots, unshot fraction " << solver.unshotFraction() << ", max element error "
-              << maxError << "\n";
+              << maxError << "; largest error of the indirect part " << maxIndirectError
+              << ", of the direct part " << maxDirectError << "\n";
     EXPECT_TRUE(solver.converged());
     EXPECT_TRUE(allValid(solver));
     EXPECT_EQ(solver.receivers().size(), 768u);
     EXPECT_LT(maxError, 0.01);
+    // Each patch's first shot carries its emission: the direct part, rho Le.
+    EXPECT_LT(maxIndirectError, 0.01);
+    EXPECT_LT(maxDirectError, 0.01);
     // The displayed radiance (Gouraud-interpolated, emission and ambient term included) too, at
     // the corners, edges and inside of the first wall's triangles.
     for (const uint32_t triangle : {0u, 1u}) {
@@ -89,11 +103,61 @@ TEST_P(ProgressiveFurnaceBox, EveryElementGivesLeOverOneMinusRho) {
             const Color L = solver.radiance(0, triangle, b, true);
             EXPECT_NEAR(L.g / expected, 1.0, 0.01)
                 << "triangle " << triangle << " at " << b.x << " " << b.y << " " << b.z;
+            const Color rest = solver.indirectRadiance(0, triangle, b);
+            EXPECT_NEAR(rest.g / expected, indirect / expected, 0.01)
+                << "triangle " << triangle << " at " << b.x << " " << b.y << " " << b.z;
         }
     }
 }
 
 INSTANTIATE_TEST_SUITE_P(Albedo, ProgressiveFurnaceBox, testing::Values(0.5f, 0.9f));
+
+// --- The indirect-only solution ------------------------------------------------------------------
+
+TEST(ProgressiveRadiosity, AllMinusIndirectIsTheDirectLightOfTheSources) {
+    // The closed box whose floor alone emits (EmittingFloorBox): All - Indirect on the ceiling
+    // is the floor's first shot, rho Le F(x -> floor) in closed form, per receiver (F at its
+    // centroid, as the shot takes it, against the closed form there) and interpolated at points
+    // of the ceiling. The first shot is the floor patches' only shot of their emission, so over
+    // the box the direct light reflected is rho Le A_floor, and the floor has none.
+    const EmittingFloorBox box;
+    const auto scene = box.load("progressive-emitting-floor");
+    ProgressiveSettings settings;
+    settings.patchEdgeLength = 1.5f;   // 48 patches
+    settings.elementArea = 0.5f / 16;  // 768 elements
+    settings.threshold = 2e-3;
+    RadiosityMesh mesh(*scene, settings.meshing(*scene));
+    ProgressiveSolver solver(*scene, mesh, settings);
+    solver.solve();
+    ASSERT_TRUE(solver.converged());
+
+    double worstReceiver = 0.0, directFlux = 0.0, floorDirect = 0.0;
+    for (const int r : solver.receivers()) {
+        const Color all = solver.elementRadiance(r, true) - mesh.Le(r);
+        const Color direct = all - solver.elementIndirect(r, true);
+        directFlux += mesh.area(r) * direct.g;
+        const Vec3 c = mesh.centroid(r);
+        if (c.y < -0.99f)
+            floorDirect = std::max(floorDirect, static_cast<double>(maxComponent(direct)));
+        if (c.y > 0.99f)
+            worstReceiver =
+                std::max(worstReceiver, std::abs(direct.g / box.ceilingDirect(c.x, c.z) - 1.0));
+    }
+    // All - Indirect, interpolated, at points of the ceiling.
+    const double worstPoint = box.worstCeilingPoint(*scene, [&](uint32_t m, uint32_t t, Vec3 b) {
+        return solver.radiance(m, t, b, false) - solver.indirectRadiance(m, t, b);
+    });
+    const double expectedFlux = box.rho * box.Le * 4.0 * box.h * box.h;
+    std::cout << solver.receivers().size() << " receivers, " << solver.shots()
+              << " shots; direct part on the ceiling: largest relative error " << worstReceiver
+              << " per receiver, " << worstPoint << " interpolated; direct flux / pi " << directFlux
+              << " (exact " << expectedFlux << "); on the floor at most " << floorDirect << "\n";
+    EXPECT_LT(worstReceiver, 0.01);
+    // The Gouraud interpolation of receivers four times the hierarchical test's leaves: 1.6 %.
+    EXPECT_LT(worstPoint, 0.025);
+    EXPECT_NEAR(directFlux, expectedFlux, 0.01 * expectedFlux);
+    EXPECT_LT(floorDirect, 1e-6);
+}
 
 // --- Against the dense solve ---------------------------------------------------------------------
 
@@ -189,6 +253,9 @@ TEST(ProgressiveRadiosity, PointLightShootsIntoTheFloor) {
     for (const int r : solver.receivers()) {
         power += mesh.area(r) * solver.elementRadiance(r, true).g;
         EXPECT_EQ(solver.elementRadiance(r, false), Color(0.0f));
+        // One plane and a point light: all of its light is the light's first reflection.
+        EXPECT_EQ(solver.elementIndirect(r, true), Color(0.0f));
+        EXPECT_EQ(solver.elementDirect(r, true), solver.elementRadiance(r, true));
     }
     const double expected = setup.reflectedPower();
     std::cout << solver.receivers().size() << " elements; reflected power " << power << " (exact "
@@ -293,6 +360,32 @@ TEST(ProgressiveRadiosity, UnshotPowerNeverIncreases) {
     }
     const double emitted = kPi * (0.6 * 0.6) * 20.0;
     EXPECT_LT(reflected, emitted * 0.8 / (1.0 - 0.8));
+}
+
+TEST(ProgressiveRadiosity, ReportsItsStagesToTheProgressSink) {
+    // A point light over a floor: the constructor reports the punctual lights' direct light, one
+    // unit per receiver; solve() the shooting, whose bar ends full when the solver converges,
+    // and the vertex values.
+    const PointLightOverFloor setup;
+    GltfBuilder builder;
+    setup.build(builder);
+    const auto scene = loadBuiltScene(builder, "progressive-progress");
+    ProgressiveSettings settings;
+    RadiosityMesh mesh(*scene, settings.meshing(*scene));
+    RecordedProgress progress;
+    ProgressiveSolver solver(*scene, mesh, settings, &progress);
+    solver.solve(&progress);
+    ASSERT_TRUE(solver.converged());
+    ASSERT_EQ(progress.stages.size(), 3u);
+    EXPECT_EQ(progress.stages[0].name, "direct light of the punctual lights");
+    EXPECT_EQ(progress.stages[0].total, solver.receivers().size());
+    EXPECT_EQ(progress.stages[1].name, "shooting");
+    EXPECT_EQ(progress.stages[2].name, "vertex values");
+    for (const RecordedProgress::Stage& stage : progress.stages) {
+        EXPECT_TRUE(stage.ended) << stage.name;
+        EXPECT_FALSE(stage.summary.empty()) << stage.name;
+        EXPECT_EQ(stage.done, stage.total) << stage.name;
+    }
 }
 
 TEST(ProgressiveRadiosity, RefusesBadSettings) {

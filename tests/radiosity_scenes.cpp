@@ -3,6 +3,7 @@
 #include "core/gltf_loader.h"
 #include "tests/cli_runner.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace penumbra::test {
@@ -53,6 +54,49 @@ double PointLightOverFloor::reflectedPower() const {
     const double h = height, a = half;
     const double Omega = 4.0 * std::atan(a * a / (h * std::sqrt(h * h + 2.0 * a * a)));
     return rho * intensity * Omega / kPi;
+}
+
+std::unique_ptr<Scene> EmittingFloorBox::load(const std::string& name) const {
+    GltfBuilder scene;
+    const int walls = scene.addMaterial({.baseColor = Color(rho)});
+    const int floor = scene.addMaterial(
+        {.baseColor = Color(rho), .emissive = Color(1.0f), .emissiveStrength = Le});
+    addClosedBox(scene, walls, floor, h);
+    return loadBuiltScene(scene, name);
+}
+
+double EmittingFloorBox::worstCeilingPoint(
+    const Scene& scene,
+    const std::function<Color(uint32_t mesh, uint32_t triangle, Vec3 b)>& direct) const {
+    constexpr uint32_t kCeiling = 5;  // the face y = +h of addClosedBox
+    const Mesh& ceiling = scene.meshes()[kCeiling];
+    double worst = 0.0;
+    for (uint32_t t = 0; t < ceiling.triangles.size(); ++t) {
+        for (const Vec3 b : {Vec3(1.0f / 3.0f), Vec3(0.6f, 0.2f, 0.2f), Vec3(0.2f, 0.6f, 0.2f),
+                             Vec3(0.2f, 0.2f, 0.6f), Vec3(0.45f, 0.45f, 0.1f)}) {
+            const auto& v = ceiling.triangles[t];
+            const Vec3 p = b.x * ceiling.positions[v[0]] + b.y * ceiling.positions[v[1]] +
+                           b.z * ceiling.positions[v[2]];
+            const double expected = ceilingDirect(p.x, p.z);
+            worst = std::max(worst, std::abs(direct(kCeiling, t, b).g / expected - 1.0));
+        }
+    }
+    return worst;
+}
+
+double EmittingFloorBox::ceilingDirect(double x, double z) const {
+    // Howell B-3 with X = a / c, Y = b / c: F = 1/(2 pi) [X / sqrt(1 + X^2) atan(Y / sqrt(1 + X^2))
+    // + Y / sqrt(1 + Y^2) atan(X / sqrt(1 + Y^2))], for the floor's a x b rectangles at c = 2h.
+    const double c = 2.0 * h;
+    double F = 0.0;
+    for (const double a : {h - x, h + x}) {
+        for (const double b : {h - z, h + z}) {
+            const double X = a / c, Y = b / c;
+            const double sX = std::sqrt(1.0 + X * X), sY = std::sqrt(1.0 + Y * Y);
+            F += (X / sX * std::atan(Y / sX) + Y / sY * std::atan(X / sY)) / (2.0 * kPi);
+        }
+    }
+    return static_cast<double>(rho) * Le * F;
 }
 
 bool validRadiance(const Color& L) {

@@ -4,10 +4,14 @@
 
 #include "core/math.h"
 #include "core/scene.h"
+#include "radiosity/solve_progress.h"
 #include "tests/gltf_builder.h"
 
+#include <functional>
 #include <memory>
+#include <mutex>
 #include <string>
+#include <vector>
 
 namespace penumbra::test {
 
@@ -36,6 +40,59 @@ struct PointLightOverFloor {
     // The floor's reflected flux divided by pi, sum A L = rho I Omega / pi (cd), with Omega the
     // solid angle of the floor seen from the light.
     double reflectedPower() const;
+};
+
+// The closed box of addClosedBox (half-size h) whose floor alone emits, Le cd/m², and every face
+// reflects rho: the first reflection of the floor's light, the direct part of the solution, is in
+// closed form on the ceiling (y = h, facing down), parallel to the floor.
+struct EmittingFloorBox {
+    float rho = 0.5f, Le = 1.0f, h = 1.0f;
+
+    // The scene, built and loaded as loadBuiltScene() does.
+    std::unique_ptr<Scene> load(const std::string& name) const;
+    // The floor's direct light reflected at the ceiling point (x, h, z), |x|, |z| <= h (cd/m²):
+    // rho Le F(x -> floor), F by superposition of the four rectangles of the floor around the
+    // point's foot (Howell's catalogue B-3: a differential element on the normal through a
+    // corner of a parallel rectangle).
+    double ceilingDirect(double x, double z) const;
+    // The largest relative error of direct(mesh, triangle, b), a solver's direct part at a
+    // point of the ceiling (scene mesh 5), against ceilingDirect(), over points inside both of
+    // the ceiling's triangles.
+    double worstCeilingPoint(
+        const Scene& scene,
+        const std::function<Color(uint32_t mesh, uint32_t triangle, Vec3 b)>& direct) const;
+};
+
+// A SolveProgress that keeps what a solver reported: each stage's name, announced total, the
+// work advanced during it and its summary, in order.
+struct RecordedProgress : SolveProgress {
+    struct Stage {
+        std::string name, summary;
+        uint64_t total = 0, done = 0;
+        bool ended = false;
+    };
+    std::vector<Stage> stages;
+    std::mutex mutex;  // advance() may come from several threads
+
+    void beginStage(const std::string& name, uint64_t total) override {
+        stages.push_back({name, "", total, 0, false});
+    }
+    void advance(uint64_t work) override {
+        const std::lock_guard<std::mutex> lock(mutex);
+        stages.back().done += work;
+    }
+    void endStage(const std::string& summary) override {
+        stages.back().summary = summary;
+        stages.back().ended = true;
+    }
+    // The first stage whose name starts with `prefix`, or null.
+    const Stage* find(const std::string& prefix) const {
+        for (const Stage& s : stages) {
+            if (s.name.rfind(prefix, 0) == 0)
+                return &s;
+        }
+        return nullptr;
+    }
 };
 
 // Finite and non-negative in every channel.

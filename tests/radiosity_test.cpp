@@ -34,6 +34,10 @@ struct FurnaceResult {
     bool converged = false;
     size_t leaves = 0, links = 0;
     std::vector<RadiosityIteration> iterations;
+    // The indirect part (paths L D D+) against Le rho^2 / (1 - rho), relative to Le / (1 - rho),
+    // per leaf and interpolated at points of the first wall; the direct part (L D) against
+    // rho Le, relative to it.
+    double maxIndirectError = 0.0, maxInterpolatedIndirectError = 0.0, maxDirectError = 0.0;
 };
 
 // Solves a closed enclosure whose surfaces all emit Le = 1 and reflect the same rho, and measures
@@ -45,7 +49,11 @@ FurnaceResult solveFurnaceScene(const Scene& scene, const RadiositySettings& set
 
     FurnaceResult result;
     // rho as the mesh took it from the material (a Lambertian glTF material: baseColor).
-    const double expected = 1.0 / (1.0 - static_cast<double>(mesh.rho(0).g));
+    const double rho = mesh.rho(0).g;
+    const double expected = 1.0 / (1.0 - rho);
+    // L = Le + rho Le + Le rho^2 / (1 - rho): emission, first reflection of the sources (every
+    // element sees the whole closed box, F summing to 1), and the rest.
+    const double indirect = rho * rho / (1.0 - rho);
     double weighted = 0.0, area = 0.0;
     for (size_t e = 0; e < mesh.elementCount(); ++e) {
         const int element = static_cast<int>(e);
@@ -57,8 +65,22 @@ FurnaceResult solveFurnaceScene(const Scene& scene, const RadiositySettings& set
         ++result.leaves;
         weighted += mesh.area(element) * front.g;
         area += mesh.area(element);
-        for (int c = 0; c < 3; ++c)
+        const Color direct = solver.elementDirect(element, true);
+        const Color rest = solver.elementIndirect(element, true);
+        for (int c = 0; c < 3; ++c) {
             result.maxError = std::max(result.maxError, std::abs(front[c] / expected - 1.0));
+            result.maxIndirectError =
+                std::max(result.maxIndirectError, std::abs(rest[c] - indirect) / expected);
+            result.maxDirectError =
+                std::max(result.maxDirectError, std::abs(direct[c] / rho - 1.0));
+        }
+    }
+    for (const uint32_t triangle : {0u, 1u}) {
+        for (const Vec3 b : {Vec3(1, 0, 0), Vec3(0.5f, 0.5f, 0), Vec3(0.2f, 0.3f, 0.5f)}) {
+            const Color rest = solver.indirectRadiance(0, triangle, b);
+            result.maxInterpolatedIndirectError = std::max(result.maxInterpolatedIndirectError,
+                                                           std::abs(rest.g - indirect) / expected);
+        }
     }
     result.meanError = std::abs(weighted / area / expected - 1.0);
     result.converged = solver.converged();
@@ -95,10 +117,16 @@ TEST_P(ClosedFurnaceBox, EveryElementGivesLeOverOneMinusRho) {
     const FurnaceResult r = solveFurnace(rho, furnaceSettings());
     std::cout << "rho " << rho << ": " << r.leaves << " leaves, " << r.links << " links, "
               << r.iterations.size() << " sweeps, max element error " << r.maxError
-              << ", error of the mean " << r.meanError << "\n";
+              << ", error of the mean " << r.meanError << "; largest error of the indirect part "
+              << r.maxIndirectError << " (interpolated " << r.maxInterpolatedIndirectError
+              << "), of the direct part " << r.maxDirectError << "\n";
     EXPECT_TRUE(r.converged);
     EXPECT_TRUE(r.allValid);
     EXPECT_LT(r.maxError, 0.01);
+    // The indirect-only solution, Le rho^2 / (1 - rho), within the same 1 % of L.
+    EXPECT_LT(r.maxIndirectError, 0.01);
+    EXPECT_LT(r.maxInterpolatedIndirectError, 0.01);
+    EXPECT_LT(r.maxDirectError, 0.01);
     // Within a round (one set of links) the iteration is a contraction started below its fixed
     // point: every sweep changes the solution less than the one before; a divergence or a
     // stall would show here.
@@ -242,10 +270,14 @@ TEST_P(ClusteredFurnaceBox, EveryElementGivesLeOverOneMinusRho) {
     const FurnaceResult r = solveFurnaceScene(*scene, settings);
     std::cout << "clustered, rho " << rho << ": " << r.leaves << " leaves, " << r.links
               << " links, " << r.iterations.size() << " sweeps, max element error " << r.maxError
-              << ", error of the mean " << r.meanError << "\n";
+              << ", error of the mean " << r.meanError << ", of the indirect part "
+              << r.maxIndirectError << "\n";
     EXPECT_TRUE(r.converged);
     EXPECT_TRUE(r.allValid);
     EXPECT_LT(r.maxError, 0.01);
+    // The direct part goes through the cluster links too (computeDirectPart pushes it down the
+    // cluster tree like the solution).
+    EXPECT_LT(r.maxIndirectError, 0.01);
 }
 
 INSTANTIATE_TEST_SUITE_P(Albedo, ClusteredFurnaceBox, testing::Values(0.5f, 0.9f));
@@ -347,6 +379,9 @@ TEST(HierarchicalRadiosity, PointLightShootsIntoTheFloor) {
         if (mesh.isLeaf(element)) {
             power += mesh.area(element) * solver.elementRadiance(element, true).g;
             EXPECT_EQ(solver.elementRadiance(element, false), Color(0.0f));
+            // One plane and a point light: all of its light is the light's first reflection.
+            EXPECT_EQ(solver.elementIndirect(element, true), Color(0.0f));
+            EXPECT_EQ(solver.elementDirect(element, true), solver.elementRadiance(element, true));
         }
     }
     const double expectedPower = setup.reflectedPower();
@@ -358,6 +393,62 @@ TEST(HierarchicalRadiosity, PointLightShootsIntoTheFloor) {
     // The interpolated value under the peak of the cos^3 falloff is an average over the
     // elements around it, so slightly low: 3 %.
     EXPECT_NEAR(centre.g, below, 0.03 * below);
+}
+
+// --- The indirect-only solution ------------------------------------------------------------------
+
+TEST(HierarchicalRadiosity, AllMinusIndirectIsTheDirectLightOfTheSources) {
+    // A closed box whose floor alone emits: the ceiling's direct light, rho Le F(x -> floor), is
+    // in closed form (EmittingFloorBox). What the solution holds beyond its indirect part,
+    // All - Indirect, must be that light: per ceiling leaf (against F averaged over the leaf by
+    // the seven-point rule of degree 3) and at points of the ceiling (the Gouraud-interpolated
+    // values against the point value). Over the whole box, the direct light reflected is rho
+    // times the floor's emitted flux, sum_i A_i direct_i = rho Le A_floor (the floor's form factors
+    // to the rest of the closed box sum to 1), and the floor, which sees none of itself, has none.
+    const EmittingFloorBox box;
+    const auto scene = box.load("radiosity-emitting-floor");
+    RadiositySettings settings;
+    settings.minElementArea = 0.5f / 64.0f;
+    settings.epsilon = 1e-3f;
+    RadiosityMesh mesh(*scene, settings.meshing(*scene));
+    RadiositySolver solver(*scene, mesh, settings);
+    solver.solve();
+    ASSERT_TRUE(solver.converged());
+
+    double worstLeaf = 0.0, directFlux = 0.0, floorDirect = 0.0;
+    for (size_t e = 0; e < mesh.elementCount(); ++e) {
+        const int element = static_cast<int>(e);
+        if (!mesh.isLeaf(element))
+            continue;
+        const Color all = solver.elementRadiance(element, true) - mesh.Le(element);
+        const Color direct = all - solver.elementIndirect(element, true);
+        directFlux += mesh.area(element) * direct.g;
+        if (mesh.centroid(element).y < -0.99f)
+            floorDirect = std::max(floorDirect, static_cast<double>(maxComponent(direct)));
+        if (mesh.centroid(element).y < 0.99f)
+            continue;
+        const auto c = mesh.corners(element);
+        const auto at = [&](const Vec3& p) { return box.ceilingDirect(p.x, p.z); };
+        const double expected =
+            (at(c[0]) + at(c[1]) + at(c[2])) / 20.0 +
+            (at(0.5f * (c[0] + c[1])) + at(0.5f * (c[1] + c[2])) + at(0.5f * (c[2] + c[0]))) *
+                (2.0 / 15.0) +
+            at(mesh.centroid(element)) * (9.0 / 20.0);
+        worstLeaf = std::max(worstLeaf, std::abs(direct.g / expected - 1.0));
+    }
+    // All - Indirect, interpolated, at points of the ceiling.
+    const double worstPoint = box.worstCeilingPoint(*scene, [&](uint32_t m, uint32_t t, Vec3 b) {
+        return solver.radiance(m, t, b, false) - solver.indirectRadiance(m, t, b);
+    });
+    const double expectedFlux = box.rho * box.Le * 4.0 * box.h * box.h;
+    std::cout << mesh.leafCount() << " leaves; direct part on the ceiling: largest relative error "
+              << worstLeaf << " per leaf, " << worstPoint << " interpolated; direct flux / pi "
+              << directFlux << " (exact " << expectedFlux << "); on the floor at most "
+              << floorDirect << "\n";
+    EXPECT_LT(worstLeaf, 0.01);
+    EXPECT_LT(worstPoint, 0.02);
+    EXPECT_NEAR(directFlux, expectedFlux, 0.01 * expectedFlux);
+    EXPECT_LT(floorDirect, 1e-6);
 }
 
 // The area of the floor leaf (y = -1, facing up) whose projection holds the point (x, z).
@@ -443,6 +534,93 @@ TEST(HierarchicalRadiosity, StatsReportPeakMemoryPerStage) {
     }
     EXPECT_GE(stats["peak_memory_mib_solve"], stats["memory_mib"]);
     EXPECT_EQ(stats["clusters"], 0.0);  // 48 patches: under clusterMinPatches
+}
+
+TEST(HierarchicalRadiosity, ReportsItsStagesToTheProgressSink) {
+    // A closed room with a ceiling light and a point light: every stage is reported, in order,
+    // each ended with its figures; the stages of known length are advanced by exactly their
+    // total (the bar reaches 100 %), and the gathers, which converge, reach theirs too.
+    GltfBuilder builder;
+    const int white = builder.addMaterial({.baseColor = Color(0.6f)});
+    addClosedBox(builder, white, white);
+    addCeilingLight(builder, 0.3f, 0.99f, 20.0f);
+    builder.addLight({.type = "point", .intensity = 1.0f, .position = {0.5f, 0.5f, 0.0f}});
+    const auto scene = loadBuiltScene(builder, "radiosity-progress");
+    RadiositySettings settings;
+    settings.minElementArea = 0.5f / 16.0f;
+    RadiosityMesh mesh(*scene, settings.meshing(*scene));
+    RadiositySolver solver(*scene, mesh, settings);
+    RecordedProgress progress;
+    solver.solve(&progress);
+    ASSERT_TRUE(solver.converged());
+
+    std::vector<std::string> expected = {"direct light of the punctual lights",
+                                         "linking: refinement oracle",
+                                         "linking: form factors and visibility", "gather"};
+    ASSERT_GE(progress.stages.size(), expected.size() + 2);
+    for (size_t i = 0; i < expected.size(); ++i)
+        EXPECT_EQ(progress.stages[i].name, expected[i]);
+    EXPECT_EQ(progress.stages[progress.stages.size() - 2].name, "gather to convergence");
+    EXPECT_EQ(progress.stages.back().name, "push-pull of the direct part, vertex values");
+    int gathers = 0;
+    for (const RecordedProgress::Stage& stage : progress.stages) {
+        std::cout << stage.name << ": " << stage.done << " of " << stage.total << ", "
+                  << stage.summary << "\n";
+        EXPECT_TRUE(stage.ended) << stage.name;
+        EXPECT_FALSE(stage.summary.empty()) << stage.name;
+        if (stage.total > 0)
+            EXPECT_EQ(stage.done, stage.total) << stage.name;
+        gathers += stage.name.rfind("gather", 0) == 0;
+    }
+    // A gather after the first links, one per refinement round, and the last.
+    int rounds = -1;
+    for (const auto& [key, value] : solver.stats()) {
+        if (key == "refinement_rounds")
+            rounds = std::stoi(value);
+    }
+    EXPECT_EQ(gathers, 2 + rounds);
+    // The oracle's stages count the pairs they examine; the direct light the first leaves, the
+    // patches.
+    EXPECT_GT(progress.find("linking: refinement oracle")->done, 0u);
+    EXPECT_EQ(progress.find("direct light")->total, mesh.patchCount());
+}
+
+TEST(ConsoleSolveProgress, PrintsALinePerStageInALogAndNothingWhenQuiet) {
+    // Not a terminal (a temporary file): one line per stage, its name, figures and time; with
+    // quiet, nothing at all.
+    for (const bool quiet : {false, true}) {
+        std::FILE* log = std::tmpfile();
+        ASSERT_NE(log, nullptr);
+        {
+            ConsoleSolveProgress progress("radiosity", quiet, log);
+            progress.beginStage("linking", 100);
+            progress.advance(60);
+            progress.advance(40);
+            progress.endStage("12 links");
+            progress.beginStage("oracle", 0);
+            progress.advance(5);
+            progress.beginStage("gather", 1000);  // ends "oracle" without figures
+        }                                         // the destructor ends "gather"
+        std::rewind(log);
+        std::string text;
+        for (int c = std::fgetc(log); c != EOF; c = std::fgetc(log))
+            text.push_back(static_cast<char>(c));
+        std::fclose(log);
+        if (quiet) {
+            EXPECT_EQ(text, "");
+            continue;
+        }
+        std::vector<std::string> lines;
+        for (size_t start = 0, end; (end = text.find('\n', start)) != std::string::npos;
+             start = end + 1)
+            lines.push_back(text.substr(start, end - start));
+        ASSERT_EQ(lines.size(), 3u) << text;
+        EXPECT_EQ(lines[0].rfind("radiosity: linking: 12 links, ", 0), 0u) << lines[0];
+        EXPECT_EQ(lines[1].rfind("radiosity: oracle: ", 0), 0u) << lines[1];
+        EXPECT_EQ(lines[2].rfind("radiosity: gather: ", 0), 0u) << lines[2];
+        for (const std::string& line : lines)
+            EXPECT_EQ(line.substr(line.size() - 2), " s") << line;
+    }
 }
 
 TEST(HierarchicalRadiosity, RefusesBadSettings) {

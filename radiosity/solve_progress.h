@@ -1,0 +1,85 @@
+// What a radiosity solver tells of its work while it solves. The solvers never print: a caller
+// that wants to show progress passes a SolveProgress to solve() (or to the progressive solver's
+// constructor), and nothing is reported without one.
+//
+// A solve is a sequence of stages (direct light of the punctual lights, linking, refinement
+// rounds, gather sweeps, the final push-pull to the vertices). Each stage is announced with its
+// total work when that is known before it starts (elements, links), then advanced, then ended
+// with a one-line summary of what it did. ConsoleSolveProgress shows them with core/progress.h.
+#pragma once
+
+#include "core/progress.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cstdint>
+#include <cstdio>
+#include <memory>
+#include <mutex>
+#include <string>
+
+namespace penumbra {
+
+class SolveProgress {
+  public:
+    virtual ~SolveProgress() = default;
+
+    // A stage begins: `name` says what it does ("linking", "gather, round 2"); `total` is its work
+    // in units of the stage's own choosing, 0 when it cannot be known in advance. A stage not
+    // ended by endStage() is ended by the next beginStage().
+    virtual void beginStage(const std::string& name, uint64_t total) = 0;
+    // `work` more units of the current stage are done. Safe to call from several threads at once.
+    virtual void advance(uint64_t work) = 0;
+    // The current stage ends; `summary` gives its figures ("5126123 links", "12 sweeps, residual
+    // 3.1e-05"), or is empty.
+    virtual void endStage(const std::string& summary) = 0;
+};
+
+// Shows each stage on `stream`, labelled "<prefix>: <stage>", as one line with its summary and
+// time when it ends. On a terminal, a stage with a known total shows a core/progress.h bar with
+// its ETA while it runs, and a stage of unknown length the count of its work so far; the stage's
+// line then replaces them. A log gets the lines alone (a bar's
+// per-10 % lines would give a solve of twenty stages two hundred lines). Prints nothing when
+// quiet.
+class ConsoleSolveProgress : public SolveProgress {
+  public:
+    ConsoleSolveProgress(std::string prefix, bool quiet, std::FILE* stream = stderr);
+    ~ConsoleSolveProgress() override;
+
+    void beginStage(const std::string& name, uint64_t total) override;
+    void advance(uint64_t work) override;
+    void endStage(const std::string& summary) override;
+
+  private:
+    std::string prefix_;
+    bool quiet_;
+    std::FILE* stream_;
+    bool terminal_;
+    std::string stage_;  // the current stage's name; empty between stages
+    std::unique_ptr<Progress> progress_;
+    std::chrono::steady_clock::time_point start_;
+    // A stage of unknown length: its work so far, shown as a count on a terminal.
+    std::atomic<uint64_t> done_{0};
+    std::mutex drawing_;
+    double nextDraw_ = 0.0;  // seconds into the stage; guarded by drawing_
+    bool counting_ = false;  // a count is on the line; guarded by drawing_
+};
+
+// Runs body(i) for every i in [0, n) in parallel, in successive chunks of about 1/200 of n, and
+// advances `progress` (if any) by each chunk as it ends: a bar that moves without an atomic
+// operation per item. A chunk is at least 256 items, so that the wait for its last few is small.
+template <typename Body>
+void parallelForWithProgress(size_t n, SolveProgress* progress, const Body& body) {
+    const size_t chunk = std::max<size_t>(n / 200, 256);
+    for (size_t begin = 0; begin < n; begin += chunk) {
+        const size_t end = std::min(n, begin + chunk);
+        tbb::parallel_for(begin, end, body);
+        if (progress)
+            progress->advance(end - begin);
+    }
+}
+
+}  // namespace penumbra
