@@ -5,6 +5,7 @@
 #include "core/sampler.h"
 #include "core/sampling.h"
 #include "core/scene.h"
+#include "core/surface_crossing.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -173,15 +174,6 @@ AimedOrigin sampleDiscs(std::span<const Sphere> targets, const LightLeSample& pl
     return AimedOrigin{p, std::max(covering, 1) / total};
 }
 
-// Beer-Lambert attenuation exp(-sigma t) of a segment inside a volume material, known when the
-// segment ends on the material's back face (the path tracer's rule, raytrace/path_tracer.cpp).
-Color segmentAttenuation(const Scene& scene, const SurfaceHit& hit, const Vec3& direction) {
-    const Material& m = scene.material(hit);
-    if (m.thinWalled() || hit.frontFace(direction))
-        return Color(1.0f);
-    return glm::exp(-m.absorption() * hit.t);
-}
-
 struct ChunkResult {
     std::vector<Photon> photons;
     uint64_t aimedAtSpecular = 0;
@@ -245,23 +237,18 @@ class Tracer {
             const std::optional<SurfaceHit> hit = scene_.intersect(ray);
             if (!hit)
                 return;
-            beta *= segmentAttenuation(scene_, *hit, ray.d);
+            beta *= volumeAttenuation(scene_, *hit, ray.d);
             const Bsdf bsdf = scene_.bsdf(*hit);
             const Vec3 wo = -ray.d;
 
-            // Straight-through transparency: continue unchanged with probability q, else
-            // scatter; both branches reweighted (the path tracer's rule, so both agree).
-            const Color through = scene_.straightTransmittance(*hit, bsdf, wo);
-            if (maxComponent(through) > 0.0f) {
-                const float q = glm::min(maxComponent(through), 1.0f);
-                if (sampler.get1D() < q) {
-                    if (++transparentLayers > kMaxTransparentLayers)
-                        return;
-                    beta *= through / q;
-                    ray = Scene::spawnRay(*hit, ray.d);
-                    continue;
-                }
-                beta /= 1.0f - q;
+            // Straight-through transparency, as for camera paths (core/surface_crossing.h).
+            const StraightThrough straight = chooseStraightThrough(scene_, *hit, bsdf, wo, sampler);
+            beta *= straight.weight;
+            if (straight.passes) {
+                if (++transparentLayers > kMaxTransparentLayers)
+                    return;
+                ray = Scene::spawnRay(*hit, ray.d);
+                continue;
             }
             if (firstSurface) {
                 firstSurface = false;

@@ -1,0 +1,26 @@
+#include "core/surface_crossing.h"
+
+#include "core/material.h"
+#include "core/sampler.h"
+
+namespace penumbra {
+
+Color volumeAttenuation(const Scene& scene, const SurfaceHit& hit, const Vec3& direction) {
+    const Material& m = scene.material(hit);
+    if (m.thinWalled() || hit.frontFace(direction))
+        return Color(1.0f);
+    return glm::exp(-m.absorption() * hit.t);
+}
+
+StraightThrough chooseStraightThrough(const Scene& scene, const SurfaceHit& hit, const Bsdf& bsdf,
+                                      const Vec3& wo, Sampler& sampler) {
+    const Color through = scene.straightTransmittance(hit, bsdf, wo);
+    if (!(maxComponent(through) > 0.0f))
+        return {};
+    const float q = glm::min(maxComponent(through), 1.0f);
+    if (sampler.get1D() < q)
+        return {true, through / q};
+    return {false, Color(1.0f / (1.0f - q))};
+}
+
+}  // namespace penumbra

@@ -1,0 +1,28 @@
+// How light crosses a surface without scattering, the same way for every tracer (camera paths,
+// distribution rays, photons), so that they agree: absorption inside solids, and straight-through
+// transparency (thin glass, alpha cut-outs), which is not a scattering vertex
+// (docs/light-paths.md).
+#pragma once
+
+#include "core/bsdf.h"
+#include "core/scene.h"
+
+namespace penumbra {
+
+class Sampler;
+
+// Beer-Lambert attenuation exp(-sigma t) of a segment inside a volume material, known when the
+// segment ends on the material's back face (a closed solid leaves through its back faces).
+Color volumeAttenuation(const Scene& scene, const SurfaceHit& hit, const Vec3& direction);
+
+// Straight-through transparency: the ray continues unchanged with probability q = min(max
+// transmittance, 1), else the surface scatters; either branch is reweighted by its probability,
+// so the choice is unbiased. A uniform sample is drawn only when the surface transmits.
+struct StraightThrough {
+    bool passes = false;  // continue the same ray through the surface
+    Color weight{1.0f};   // factor for the throughput in the branch taken
+};
+StraightThrough chooseStraightThrough(const Scene& scene, const SurfaceHit& hit, const Bsdf& bsdf,
+                                      const Vec3& wo, Sampler& sampler);
+
+}  // namespace penumbra
