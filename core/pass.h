@@ -75,6 +75,7 @@ class PassContext {
 // What a pass learns of the rest of its pipeline when the pipeline is planned.
 struct PipelineShape {
     std::set<std::string> products;     // made by any pass of the pipeline
+    std::set<std::string> madeBefore;   // made by a pass before this one
     std::set<std::string> neededLater;  // needed by a pass after this one
 };
 

@@ -1,18 +1,24 @@
 #include "passes/path_pass.h"
 
+#include "caustics/caustic_map.h"
 #include "radiosity/radiosity_solution.h"
 
 namespace penumbra {
 
 std::set<std::string> PathPass::needs() const {
+    std::set<std::string> needs;
     if (settings_.reuseRadiosity)
-        return {"radiosity"};
-    return {};
+        needs.insert("radiosity");
+    if (settings_.causticsAtReuse)
+        needs.insert("caustics");
+    return needs;
 }
 
 void PathPass::adapt(const PipelineShape& shape) {
     settings_.excludeCaustics = caustics_ == Caustics::Exclude ||
                                 (caustics_ == Caustics::Auto && shape.products.count("caustics"));
+    // A caustic map made before this pass also lights the second diffuse vertex.
+    settings_.causticsAtReuse = settings_.reuseRadiosity && shape.madeBefore.count("caustics");
 }
 
 PassStats PathPass::parameters() const {
@@ -25,7 +31,9 @@ PassStats PathPass::parameters() const {
 
 RadianceEstimator PathPass::makeEstimator(PassContext& context) {
     radiosity_ = context.product<RadiositySolution>("radiosity");
-    tracer_ = std::make_unique<PathTracer>(context.scene, settings_, radiosity_.get());
+    causticMap_ = context.product<CausticMap>("caustics");
+    tracer_ =
+        std::make_unique<PathTracer>(context.scene, settings_, radiosity_.get(), causticMap_.get());
     return [tracer = tracer_.get()](const Ray& ray, Sampler& sampler, FirstHit* firstHit,
                                     PathCounters& counters) {
         return tracer->Li(ray, sampler, firstHit, counters);

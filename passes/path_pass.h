@@ -1,7 +1,7 @@
 // The path-tracing pass: forms the image with the path tracer (raytrace/path_tracer.h). Alone it
 // is the `reference` pipeline, the ground truth of every other pipeline; in the `hybrid` pipeline
 // it reuses the radiosity solution at the second diffuse vertex and leaves caustic paths to the
-// caustic pass.
+// caustic pass; when that pass comes first, its map also lights the second diffuse vertex.
 //
 // Contribution: image layer "path" (the light paths of pathTracerLightPaths()), and the
 // requested AOVs.
@@ -35,6 +35,7 @@ class PathPass : public SamplingPass {
     PathTracerSettings settings_;
     Caustics caustics_;
     std::shared_ptr<const RadiositySolution> radiosity_;
+    std::shared_ptr<const CausticMap> causticMap_;
     std::unique_ptr<PathTracer> tracer_;
 };
 

@@ -39,6 +39,8 @@ std::optional<PipelineProblem> checkPipeline(Pipeline& pipeline) {
                 shape.neededLater.insert(need);
         }
         passes[i]->adapt(shape);
+        for (const std::string& product : passes[i]->products())
+            shape.madeBefore.insert(product);
     }
 
     std::set<std::string> made;

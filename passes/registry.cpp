@@ -45,17 +45,18 @@ const std::vector<std::pair<std::string, PresetFactory>>& presets() {
              passes.push_back(std::make_unique<DistributionPass>(DistributionSettings{}));
              return passes;
          }},
-        // The seed's three-pass method: radiosity, then path tracing that takes the solution at
-        // the second diffuse vertex, then the caustic photon map (docs/light-paths.md); the
-        // planner skips the caustic pass for a scene without specular surfaces.
+        // The seed's three-pass method: radiosity, the caustic photon map, then path tracing
+        // that takes the solution and the map at the second diffuse vertex
+        // (docs/light-paths.md); the planner skips the caustic pass for a scene without
+        // specular surfaces.
         {"hybrid",
          [](const RenderSettings& settings) {
              std::vector<std::unique_ptr<Pass>> passes;
              passes.push_back(std::make_unique<RadiosityPass>(RadiositySettings{}));
+             passes.push_back(std::make_unique<CausticPass>(CausticSettings{}));
              PathTracerSettings path{settings.maxDepth};
              path.reuseRadiosity = true;
              passes.push_back(std::make_unique<PathPass>(path));
-             passes.push_back(std::make_unique<CausticPass>(CausticSettings{}));
              return passes;
          }},
     };

@@ -1,5 +1,6 @@
 #include "raytrace/path_tracer.h"
 
+#include "caustics/caustic_map.h"
 #include "core/sampler.h"
 #include "core/sampling.h"
 #include "radiosity/radiosity_solution.h"
@@ -29,13 +30,14 @@ std::string pathTracerLightPaths(const PathTracerSettings& settings) {
     // first diffuse vertex's next-event estimation and BSDF samples find.
     if (!settings.reuseRadiosity)
         return settings.excludeCaustics ? "L S* E | L D S* E | L (D|S)* D S* D S* E" : "L(D|S)*E";
-    return settings.excludeCaustics ? "L S* E | L D S* E | L D+ S* D S* E"
-                                    : "L S* E | L S* D S* E | L D+ S* D S* E";
+    const std::string secondVertex = settings.causticsAtReuse ? "(L D+ | L S+ D)" : "L D+";
+    return (settings.excludeCaustics ? "L S* E | L D S* E | " : "L S* E | L S* D S* E | ") +
+           secondVertex + " S* D S* E";
 }
 
 PathTracer::PathTracer(const Scene& scene, const PathTracerSettings& settings,
-                       const RadiositySolution* radiosity)
-    : scene_(scene), settings_(settings), radiosity_(radiosity) {}
+                       const RadiositySolution* radiosity, const CausticMap* causticMap)
+    : scene_(scene), settings_(settings), radiosity_(radiosity), causticMap_(causticMap) {}
 
 Color PathTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHit, PathCounters& counters) const {
     Color L(0.0f);
@@ -99,6 +101,8 @@ Color PathTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHit, PathCounters
             L += beta * radiosity_->radiance(hit->mesh, hit->triangle, hit->barycentric, false,
                                              glm::dot(wo, hit->ng) > 0.0f);
         }
+        if (reuseHere && settings_.causticsAtReuse && causticMap_)
+            L += beta * causticMap_->radiance(*hit, bsdf, wo);
         if (bsdf.hasNonDeltaLobe() && !reuseHere)
             L += beta * sampleDirectLight(scene_, *hit, bsdf, wo, sampler, counters,
                                           DirectLightWeight::PowerHeuristic);

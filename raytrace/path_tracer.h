@@ -10,7 +10,9 @@
 //   one and any specular ones between) takes the solution's reflected radiance there (light paths
 //   L D+ ending there, emission excluded: that is counted by the emission step and MIS) and
 //   traces on only through that vertex's specular lobes; next-event estimation happens at the
-//   first diffuse vertex only.
+//   first diffuse vertex only. With a caustic photon map as well, that vertex also takes the
+//   map's estimate, the light that reached it through specular vertices (L S+ D): indirect
+//   caustics, which the radiosity solution does not hold, are then counted one bounce deep.
 // - caustic exclusion: emission reached from the first diffuse vertex through one or more
 //   specular vertices (L S+ D S* E, the caustic pass's share) is dropped.
 // A vertex is diffuse or specular by the lobe it is left through (a plastic's diffuse base and
@@ -27,6 +29,7 @@
 
 namespace penumbra {
 
+class CausticMap;
 class RadiositySolution;
 class Sampler;
 
@@ -34,6 +37,7 @@ struct PathTracerSettings {
     int maxDepth = -1;  // maximum number of scattering events; -1 = unlimited (roulette ends paths)
     bool reuseRadiosity = false;   // take a radiosity solution at the second diffuse vertex
     bool excludeCaustics = false;  // drop L S+ D S* E
+    bool causticsAtReuse = false;  // with reuseRadiosity: add a caustic map at the second vertex
 };
 
 // The light paths, in Heckbert's notation (core/light_paths.h), that a path tracer with these
@@ -57,8 +61,10 @@ class PathTracer {
     // radiosity: the solution to reuse; required when settings.reuseRadiosity, and then may be
     // null only when the scene has no diffuse surface (the planner skipped the radiosity pass:
     // there is nothing to reflect).
+    // causticMap: required when settings.causticsAtReuse.
     PathTracer(const Scene& scene, const PathTracerSettings& settings,
-               const RadiositySolution* radiosity = nullptr);
+               const RadiositySolution* radiosity = nullptr,
+               const CausticMap* causticMap = nullptr);
 
     // Radiance (cd/m²) arriving along -ray.d at the ray's origin, estimated with one path.
     // The result may be non-finite only through a bug or broken input; callers drop such samples.
@@ -68,6 +74,7 @@ class PathTracer {
     const Scene& scene_;
     PathTracerSettings settings_;
     const RadiositySolution* radiosity_;
+    const CausticMap* causticMap_;
 };
 
 }  // namespace penumbra

@@ -43,6 +43,12 @@ TEST(Planner, PathTracerDeclarationsAreTheSetsTheyStandFor) {
     EXPECT_TRUE(sameSet(reuse, kAll - lostToRadiosity));
     EXPECT_TRUE(
         sameSet(PathSet::parse(pathTracerLightPaths(tracer(true, true))), reuse - kCaustics));
+    // With a caustic map at the second diffuse vertex: indirect caustics one bounce deep too.
+    PathTracerSettings withMap = tracer(true, true);
+    withMap.causticsAtReuse = true;
+    EXPECT_TRUE(sameSet(PathSet::parse(pathTracerLightPaths(withMap)),
+                        (reuse - kCaustics) | PathSet::parse("L S+ D S* D S* E")));
+    EXPECT_TRUE((PathSet::parse(pathTracerLightPaths(withMap)) & kCaustics).empty());
 }
 
 // A stand-in for a pass the registry does not have yet, with a declared set of paths.
