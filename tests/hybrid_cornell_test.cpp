@@ -28,7 +28,9 @@ constexpr int kMinPixels = 30;
 // within [-4.0 %, +3.2 %], the extremes on the short block's face lit by the red wall (red -3.5 %
 // on average) and the tall block's face lit by the green one (green +3.1 %), where the radiosity
 // view itself is off by -2.4 % and +3.2 % (tests/radiosity_cornell_test.cpp); with reuse disabled
-// the same path tracer gives the reference's answer. This bound holds the pipelines to what they
+// the same path tracer gives the reference's answer. The distribution pipeline, which takes the
+// indirect light from the solution already at the visible surface, was within [-3.4 %, +3.1 %]
+// (seed 7), like the radiosity view: the solution's error is in its indirect part. This bound holds the pipelines to what they
 // reach so that a regression fails; it comes down to 0.03 with the radiosity solver's accuracy
 // (issue 3).
 constexpr double kTolerance = 0.045;
@@ -67,7 +69,7 @@ TEST_P(ReusingPipelines, EveryWallAndBlockFaceAgreesWithTheReference) {
     EXPECT_GE(regions, 10);  // the five walls, the light, the visible faces of the blocks
 }
 
-INSTANTIATE_TEST_SUITE_P(CornellBox, ReusingPipelines, testing::Values("hybrid"));
+INSTANTIATE_TEST_SUITE_P(CornellBox, ReusingPipelines, testing::Values("hybrid", "distribution"));
 
 }  // namespace
 }  // namespace penumbra::test
