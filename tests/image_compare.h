@@ -17,9 +17,12 @@
 //    Why not the block's own spread: path-tracing noise is skewed, so a block that drew few of
 //    the rare bright paths has both a low mean and a small spread; its t is then far too large
 //    (measured: 4 of 18 correct Cornell-box renders failed at alpha = 0.01 that way).
-//  * Noise (the variance is wrong: fireflies, a broken sampler, a lost strategy): the relative
-//    MSE of the whole image, mean over pixels and channels of (t - r)^2 / (r^2 + eps), must stay
-//    below a bound the caller derives from its expected value c / spp.
+//  * Noise (the variance is wrong: fireflies, a broken sampler, a lost strategy) and bias over
+//    the whole image: the relative MSE, mean over pixels (or K x K block means) and channels of
+//    (t - r)^2 / (r^2 + eps), must stay below a bound derived from its expected value for a
+//    correct render. `penumbra diff --fail-above relmse=T` applies that bound (the regression
+//    tests gate on its exit status); expectedRelativeMse() computes the expectation from the
+//    same variance image.
 #pragma once
 
 #include "core/image.h"
@@ -46,11 +49,6 @@ struct ImageCompareOptions {
     // storage of the reference rounds every value by up to 2^-11 = 4.9e-4 relative.
     double relativeTolerance = 1e-3;
     double absoluteTolerance = 1e-6;  // the same in absolute terms, for black blocks
-    // Bound on the relative MSE; 0 disables the check.
-    double maxRelativeMse = 0.0;
-    // eps of the relative MSE is (relMseFloor x mean of the reference)^2, so pixels darker than
-    // that share of the image mean do not dominate the statistic.
-    double relMseFloor = 0.1;
 };
 
 // One block test: the block [x, x + size) x [y, y + size) (clipped) of one channel.
@@ -74,8 +72,6 @@ struct ImageCompareResult {
 
     // Whole image, per channel: (test mean / reference mean) - 1.
     std::vector<double> relativeBias;
-    double relativeMse = 0.0;
-    double maxRelativeMse = 0.0;  // the bound it was compared with (0: not checked)
 
     // A few lines with the statistics above, for test logs.
     std::string summary() const;
@@ -87,9 +83,24 @@ struct ImageCompareResult {
 ImageCompareResult compareImages(const Image& test, const Image& reference, const Image& variance,
                                  const ImageCompareOptions& options);
 
-// False-colour map of the per-pixel relative difference |test - reference| / reference, averaged
-// over the channels (a reference below 1 % of the image mean counts as that), from black (0)
-// through blue, green and yellow to red (>= fullScale). Channels R, G, B.
-Image relativeDifferenceHeatMap(const Image& test, const Image& reference, double fullScale);
+// eps of the relative MSE for a regression scene: (0.1 x the mean of the reference's values)^2,
+// so that pixels darker than a tenth of the image mean do not dominate the statistic, whatever
+// the scene's units or exposure (penumbra diff's fixed default, 0.01, suits values near 1 only).
+double relativeMseEpsilon(const Image& reference);
+
+// Mean and standard deviation of the relative MSE that `penumbra diff --downsample K --epsilon
+// eps` reports for a correct render, from the variance of one pixel of such a render. A K x K
+// block mean has the variance sum(var) / n^2 (independent pixels), plus the reference's own
+// noise in the proportion referenceVarianceRatio (test spp / reference spp); each term of the
+// relMSE has the expectation var_b / (R_b^2 + eps), R_b the reference's block mean. The
+// standard deviation assumes normal block means (a term is then var_b / (R_b^2 + eps) x
+// chi^2_1, whose variance is 2 x its mean squared) and independent terms; path-tracing noise has
+// a heavier tail, which the threshold rule allows for (docs/testing.md).
+struct ExpectedRelativeMse {
+    double mean = 0.0, standardDeviation = 0.0;
+};
+ExpectedRelativeMse expectedRelativeMse(const Image& reference, const Image& variance,
+                                        double referenceVarianceRatio, int blockSize,
+                                        double epsilon);
 
 }  // namespace penumbra::test
