@@ -9,6 +9,7 @@
 #include "radiosity/bake.h"
 #include "radiosity/radiosity_mesh.h"
 #include "radiosity/radiosity_solver.h"
+#include "radiosity/solve_progress.h"
 
 #include <tbb/global_control.h>
 #include <tbb/info.h>
@@ -48,7 +49,8 @@ void bake(const BakeOptions& options) {
     if (!quiet)
         std::cerr << "penumbra: solving radiosity on " << mesh.patchCount() << " patches\n";
     RadiositySolver solver(*scene, mesh, options.radiosity);
-    solver.solve();
+    ConsoleSolveProgress solveProgress("radiosity", quiet);
+    solver.solve(&solveProgress);
     const double solveSeconds = secondsSince(start);
 
     BakeResult result;

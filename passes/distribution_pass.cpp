@@ -1,10 +1,15 @@
 #include "passes/distribution_pass.h"
 
+#include "core/stats.h"
 #include "radiosity/radiosity_solution.h"
 
 namespace penumbra {
 
 PassStats DistributionPass::parameters() const {
+    if (ambient_ == Ambient::Constant) {
+        return {{"max_specular_depth", std::to_string(settings_.maxSpecularDepth)},
+                {"ambient", formatStat(settings_.ambient)}};
+    }
     return {{"max_specular_depth", std::to_string(settings_.maxSpecularDepth)}};
 }
 

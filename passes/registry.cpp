@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <functional>
+#include <limits>
 #include <stdexcept>
 #include <utility>
 
@@ -34,6 +35,15 @@ const std::vector<std::pair<std::string, PresetFactory>>& presets() {
          [](const RenderSettings&) {
              std::vector<std::unique_ptr<Pass>> passes;
              passes.push_back(std::make_unique<RadiosityPass>(RadiositySettings{}));
+             return passes;
+         }},
+        // Whitted's ray tracing (the seed's Eq. 2): direct light, mirror and refraction
+        // recursion, no ambient term unless a script sets one. The crudest preview.
+        {"whitted",
+         [](const RenderSettings&) {
+             std::vector<std::unique_ptr<Pass>> passes;
+             passes.push_back(std::make_unique<DistributionPass>(
+                 DistributionSettings{}, DistributionPass::Ambient::Constant));
              return passes;
          }},
         // The seed's two-pass method: an indirect-only radiosity solution as the ambient term
@@ -152,6 +162,15 @@ std::unique_ptr<Pass> pathPass(const ScriptTable& p, const PassOverrides& overri
     throw p.error("caustics", "unknown value '" + caustics + "'; valid: auto, include, exclude");
 }
 
+// Whitted's ray tracing: the distribution tracer with a constant ambient term.
+std::unique_ptr<Pass> whittedPass(const ScriptTable& p, const PassOverrides&) {
+    DistributionSettings settings;
+    settings.maxSpecularDepth =
+        p.get("max_specular_depth", settings.maxSpecularDepth, 0, kMaxDepthLimit);
+    settings.ambient = p.get("ambient", 0.0f, 0.0f, std::numeric_limits<float>::max());
+    return std::make_unique<DistributionPass>(settings, DistributionPass::Ambient::Constant);
+}
+
 // The distribution ray-tracing pass (the `distribution` pipeline's).
 std::unique_ptr<Pass> distributionPass(const ScriptTable& p, const PassOverrides&) {
     DistributionSettings settings;
@@ -192,9 +211,8 @@ using PassFactory =
 
 const std::vector<std::pair<std::string, PassFactory>>& passTypes() {
     static const std::vector<std::pair<std::string, PassFactory>> table = {
-        {"radiosity", radiosityPass},       {"path", pathPass},
-        {"distribution", distributionPass}, {"caustics", causticPass},
-        {"composite", compositePass},
+        {"radiosity", radiosityPass}, {"path", pathPass},        {"distribution", distributionPass},
+        {"whitted", whittedPass},     {"caustics", causticPass}, {"composite", compositePass},
     };
     return table;
 }

@@ -29,6 +29,8 @@ Color DistributionTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHit,
                 L += indirect_->indirectRadiance(hit.mesh, hit.triangle, hit.barycentric,
                                                  glm::dot(wo, hit.ng) > 0.0f);
             }
+            if (settings_.ambient > 0.0f)
+                L += bsdf.diffuseReflectance() * settings_.ambient;
             return L;
         });
 }

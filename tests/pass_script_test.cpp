@@ -197,10 +197,10 @@ TEST_F(PassScriptTest, OutOfRange) {
 TEST_F(PassScriptTest, PassTypes) {
     EXPECT_EQ(firstLine(error(kScene + "[[pass]]\ntype = \"photon\"\n")),
               "3:8: pass[0].type: unknown pass type 'photon'; valid: radiosity, path, "
-              "distribution, caustics, composite");
+              "distribution, whitted, caustics, composite");
     EXPECT_EQ(firstLine(error(kScene + "\n[[pass]]\nepsilon = 0.1\n")),
               "3:1: pass[0].type: missing; valid pass types: radiosity, path, distribution, "
-              "caustics, composite");
+              "whitted, caustics, composite");
 }
 
 // The planner's checks (passes/planner.h) reach the script's author at the offending table.

@@ -5,6 +5,7 @@
 #include "passes/planner.h"
 #include "core/light_paths.h"
 #include "passes/composite.h"
+#include "passes/distribution_pass.h"
 #include "passes/path_pass.h"
 #include "passes/pipeline.h"
 #include "passes/radiosity_pass.h"
@@ -160,6 +161,41 @@ TEST(Planner, AnalysisFindsDiffuseAndSpecularSurfaces) {
     test::addFloorBlock(builder, builder.addMaterial(mirror));
     const auto withMirror = test::loadBuiltScene(builder, "planner_mirror");
     EXPECT_TRUE(analyseScene(*withMirror).specular);
+}
+
+// Whitted's ambient term alone, in a closed Lambertian box without lights: every pixel shows the
+// walls' albedo times the ambient radiance, exactly (no light to sample, no mirror to follow).
+TEST(Planner, WhittedAmbientIsReflectedByTheLambertianLayer) {
+    test::GltfBuilder builder;
+    test::TestMaterial wall;
+    wall.baseColor = Color(0.5f, 0.25f, 0.125f);
+    test::addClosedBox(builder, builder.addMaterial(wall), builder.addMaterial(wall));
+    builder.setPerspectiveCamera({0.0f, 0.0f, 0.5f}, {0, 0, 0, 1}, 1.2f);  // inside the box
+    const auto scene = test::loadBuiltScene(builder, "whitted_ambient");
+    RenderSettings settings;
+    settings.width = 8;
+    settings.height = 8;
+    settings.spp = 2;
+    settings.quiet = true;
+    const CameraDesc cameraDesc = chooseCamera(scene->description().cameras, "", scene->bounds());
+    const Camera camera(cameraDesc, settings.width, settings.height);
+    DistributionSettings whitted;
+    whitted.ambient = 2.0f;
+    std::vector<std::unique_ptr<Pass>> passes;
+    passes.push_back(
+        std::make_unique<DistributionPass>(whitted, DistributionPass::Ambient::Constant));
+    Pipeline pipeline("whitted", std::move(passes));
+    ASSERT_FALSE(checkPipeline(pipeline).has_value());
+    PassContext context(*scene, camera, settings);
+    ASSERT_TRUE(pipeline.run(context));
+    const Image& beauty = context.layers.at("beauty");
+    for (int y = 0; y < beauty.height(); ++y) {
+        for (int x = 0; x < beauty.width(); ++x) {
+            EXPECT_NEAR(beauty.at(x, y, 0), 1.0f, 1e-5f);
+            EXPECT_NEAR(beauty.at(x, y, 1), 0.5f, 1e-5f);
+            EXPECT_NEAR(beauty.at(x, y, 2), 0.25f, 1e-5f);
+        }
+    }
 }
 
 TEST(Planner, CompositeIsTheExactSumOfTheContributions) {
