@@ -6,8 +6,8 @@
 
 namespace penumbra {
 
-CausticPass::CausticPass(CausticSettings settings, int maxSpecularDepth)
-    : settings_(settings), maxSpecularDepth_(maxSpecularDepth) {
+CausticPass::CausticPass(CausticSettings settings, int maxSpecularDepth, int viewSpp)
+    : settings_(settings), maxSpecularDepth_(maxSpecularDepth), viewSpp_(viewSpp) {
     validateCausticSettings(settings_);
 }
 
@@ -16,7 +16,8 @@ PassStats CausticPass::parameters() const {
             {"k", std::to_string(settings_.k)},
             {"max_radius", settings_.maxRadius > 0.0f ? formatStat(settings_.maxRadius) : "auto"},
             {"kernel", kernelName(settings_.kernel)},
-            {"max_specular_depth", std::to_string(maxSpecularDepth_)}};
+            {"max_specular_depth", std::to_string(maxSpecularDepth_)},
+            {"view_spp", std::to_string(viewSpp_)}};
 }
 
 RadianceEstimator CausticPass::makeEstimator(PassContext& context) {

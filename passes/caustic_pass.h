@@ -11,6 +11,7 @@
 #include "caustics/caustic_map.h"
 #include "passes/sampling_pass.h"
 
+#include <algorithm>
 #include <memory>
 
 namespace penumbra {
@@ -18,7 +19,7 @@ namespace penumbra {
 class CausticPass : public SamplingPass {
   public:
     // Validates the settings (UsageError naming the key).
-    explicit CausticPass(CausticSettings settings, int maxSpecularDepth = 16);
+    explicit CausticPass(CausticSettings settings, int maxSpecularDepth = 16, int viewSpp = 16);
 
     std::string type() const override { return "caustics"; }
     std::string lightPaths() const override { return "L S+ D S* E"; }
@@ -29,10 +30,17 @@ class CausticPass : public SamplingPass {
   protected:
     RadianceEstimator makeEstimator(PassContext& context) override;
     std::string activity() const override { return "caustics view"; }
+    // The map is smooth: its view needs samples for the pixel footprint and the lobe choices of
+    // specular chains only, and leaves a time limit to the path pass.
+    int sampleTarget(const RenderSettings& settings) const override {
+        return std::min(settings.spp, viewSpp_);
+    }
+    bool usesTimeLimit() const override { return false; }
 
   private:
     CausticSettings settings_;
     int maxSpecularDepth_;
+    int viewSpp_;
     std::shared_ptr<const CausticMap> map_;
 };
 

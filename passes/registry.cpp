@@ -194,8 +194,9 @@ std::unique_ptr<Pass> causticPass(const ScriptTable& p, const PassOverrides&) {
                       "unknown kernel '" + kernel + "'; valid: cone, epanechnikov, gaussian");
     s.seed = static_cast<uint32_t>(p.get<int64_t>("seed", s.seed, 0, UINT32_MAX));
     const int maxSpecularDepth = p.get("max_specular_depth", 16, 0, kMaxDepthLimit);
+    const int viewSpp = p.get("view_spp", 16, 1, std::numeric_limits<int>::max());
     try {
-        return std::make_unique<CausticPass>(s, maxSpecularDepth);
+        return std::make_unique<CausticPass>(s, maxSpecularDepth, viewSpp);
     } catch (const UsageError& e) {
         throw atKey(p, "caustics.", e);
     }

@@ -12,8 +12,9 @@ void SamplingPass::prepare(PassContext& context) {
         std::make_unique<ImageRenderer>(context.camera, context.settings, makeEstimator(context));
     const RenderSettings& s = context.settings;
     // With a time limit the bar measures time (in milliseconds), else samples.
-    const uint64_t total = s.timeLimit > 0.0 ? static_cast<uint64_t>(s.timeLimit * 1000.0)
-                                             : static_cast<uint64_t>(s.spp);
+    const bool timed = s.timeLimit > 0.0 && usesTimeLimit();
+    const uint64_t total = timed ? static_cast<uint64_t>(s.timeLimit * 1000.0)
+                                 : static_cast<uint64_t>(sampleTarget(s));
     progress_ = std::make_unique<Progress>(activity(), total, s.quiet);
     start_ = std::chrono::steady_clock::now();
 }
@@ -25,8 +26,8 @@ bool SamplingPass::run(PassContext& context) {
     lastPassSeconds_ = secondsSince(passStart);
     seconds_ = secondsSince(start_);
 
-    bool done = renderer_->samplesDone() >= s.spp || renderer_->converged();
-    if (s.timeLimit > 0.0) {
+    bool done = renderer_->samplesDone() >= sampleTarget(s) || renderer_->converged();
+    if (s.timeLimit > 0.0 && usesTimeLimit()) {
         // Stop at whole passes: before a pass that would end past the limit.
         done = done || seconds_ + lastPassSeconds_ > s.timeLimit;
         progress_->advance(static_cast<uint64_t>(std::min(seconds_, s.timeLimit) * 1000.0) -

@@ -29,6 +29,11 @@ class SamplingPass : public Pass {
     virtual RadianceEstimator makeEstimator(PassContext& context) = 0;
     // The label of the progress bar, e.g. "path tracing".
     virtual std::string activity() const = 0;
+    // The samples per pixel to take, and whether the pass spends the time limit on more: a pass
+    // whose image converges in few samples (the caustic map's view) takes a fixed number and
+    // leaves the time to the passes after it.
+    virtual int sampleTarget(const RenderSettings& settings) const { return settings.spp; }
+    virtual bool usesTimeLimit() const { return true; }
 
   private:
     std::unique_ptr<ImageRenderer> renderer_;
