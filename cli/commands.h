@@ -34,6 +34,9 @@ inline CLI::Validator atLeast(int minimum) {
                        : ">=" + bound);
 }
 
+// The --pipeline option of render and plan: a built-in preset by name, listed in the help.
+void addPipelineOption(CLI::App& command, std::string& pipeline);
+
 Command addRenderCommand(CLI::App& app);
 Command addInfoCommand(CLI::App& app);
 Command addBakeCommand(CLI::App& app);

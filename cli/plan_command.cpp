@@ -71,13 +71,7 @@ Command addPlanCommand(CLI::App& app) {
     auto options = std::make_shared<PlanOptions>();
     options->command = command;
     addSceneInputOptions(*command, options->scene);
-    std::string pipelines;
-    for (const std::string& name : pipelinePresetNames())
-        pipelines += " " + name;
-    command
-        ->add_option("--pipeline", options->pipeline,
-                     "Pipeline preset (not with a .toml pass script):" + pipelines)
-        ->capture_default_str();
+    addPipelineOption(*command, options->pipeline);
     return [options] { printPlan(*options); };
 }
 

@@ -163,6 +163,16 @@ void render(RenderOptions& options) {
 
 }  // namespace
 
+void addPipelineOption(CLI::App& command, std::string& pipeline) {
+    std::string pipelines;
+    for (const std::string& name : pipelinePresetNames())
+        pipelines += " " + name;
+    command
+        .add_option("--pipeline", pipeline,
+                    "Pipeline preset (not with a .toml pass script):" + pipelines)
+        ->capture_default_str();
+}
+
 Command addRenderCommand(CLI::App& app) {
     auto* command = app.add_subcommand("render",
                                        "Render a scene to an image (.exr linear, "
@@ -177,13 +187,7 @@ Command addRenderCommand(CLI::App& app) {
                      "tone-mapped sRGB, ...); repeat to write several. Required unless a pass "
                      "script gives `output`")
         ->take_all();
-    std::string pipelines;
-    for (const std::string& name : pipelinePresetNames())
-        pipelines += " " + name;
-    command
-        ->add_option("--pipeline", options->pipeline,
-                     "Pipeline preset (not with a .toml pass script):" + pipelines)
-        ->capture_default_str();
+    addPipelineOption(*command, options->pipeline);
     command->add_option("--spp", s.spp, "Samples per pixel (the target with --time-limit)")
         ->check(atLeast(1))
         ->capture_default_str();

@@ -94,10 +94,7 @@ bool RadiosityPass::run(PassContext& context) {
     if (renderer_->samplesDone() < context.settings.spp)
         return false;
     progress_->finish();
-    context.contribute(type(), renderer_->film().resolve());
-    const auto& aovs = renderer_->aovNames();
-    for (size_t a = 0; a < aovs.size(); ++a)
-        context.layers[aovs[a]] = renderer_->resolveAov(a);
+    renderer_->publish(context, type());
     return true;
 }
 

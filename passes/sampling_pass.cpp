@@ -38,10 +38,7 @@ bool SamplingPass::run(PassContext& context) {
     if (!done)
         return false;
     progress_->finish();
-    context.contribute(type(), renderer_->film().resolve());
-    const auto& aovs = renderer_->aovNames();
-    for (size_t a = 0; a < aovs.size(); ++a)
-        context.layers[aovs[a]] = renderer_->resolveAov(a);
+    renderer_->publish(context, type());
     return true;
 }
 

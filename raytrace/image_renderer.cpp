@@ -63,6 +63,12 @@ ImageRenderer::ImageRenderer(const Camera& camera, const RenderSettings& setting
       converged_(static_cast<size_t>(settings.width) * settings.height, 0),
       activePixels_(converged_.size()) {}
 
+void ImageRenderer::publish(PassContext& context, const std::string& name) const {
+    context.contribute(name, film_.resolve());
+    for (size_t a = 0; a < aovNames_.size(); ++a)
+        context.layers[aovNames_[a]] = resolveAov(a);
+}
+
 Image ImageRenderer::resolveAov(size_t aov) const {
     if (aovNames_.at(aov) == "spp")
         return film_.resolveSampleCounts();

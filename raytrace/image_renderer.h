@@ -6,6 +6,7 @@
 
 #include "core/camera.h"
 #include "core/film.h"
+#include "core/pass.h"
 #include "core/render_settings.h"
 #include "raytrace/path_tracer.h"
 
@@ -44,6 +45,8 @@ class ImageRenderer {
     // took.
     Image resolve() const { return film_.resolve(); }
     Image resolveAov(size_t aov) const;
+    // Publishes the image as the contribution `name` of a pass, and the AOV layers.
+    void publish(PassContext& context, const std::string& name) const;
     // AOV names in film order (a subset of albedo, normal, depth).
     const std::vector<std::string>& aovNames() const { return aovNames_; }
 
