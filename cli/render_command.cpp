@@ -143,7 +143,13 @@ void render(RenderOptions& options) {
     for (const std::string& name : settings.aovs)
         aovs.push_back({name, run.layers.at(name)});
     for (const std::string& output : options.outputs) {
-        writeImage(output, run.layers.at("beauty"), aovs, metadata, toneMapping);
+        const size_t replaced =
+            writeImage(output, run.layers.at("beauty"), aovs, metadata, toneMapping);
+        // The film drops non-finite samples, so this is a bug if it happens: say so.
+        if (replaced > 0) {
+            std::cerr << "penumbra: warning: " << replaced << " non-finite values written as 0 in "
+                      << output << "\n";
+        }
     }
 
     if (!settings.quiet) {
