@@ -53,7 +53,7 @@ class PassContext {
     }
 
     // Read-only products passes hand to later passes, by name ("radiosity": the radiosity
-    // solution; "caustics": the caustic photon map). The publisher keeps the type; a reader
+    // solution; "caustic map": the caustic photon map). The publisher keeps the type; a reader
     // asks for the type it expects and gets null when the product is absent.
     template <typename T>
     void publish(const std::string& name, std::shared_ptr<const T> product) {

@@ -4,8 +4,9 @@
 // non-delta lobe, where the map's radiance estimate is taken.
 //
 // Contribution: image layer "caustics", light paths L S+ D S* E (the caustics seen directly or in
-// mirrors); product "caustics" (the map), which tells a path pass with `caustics = "auto"` to
-// leave those paths out.
+// mirrors); products "caustics" (those paths are counted: a path pass with `caustics = "auto"`
+// leaves them out) and "caustic map" (the map, which a later path pass reuses at its second
+// diffuse vertex).
 #pragma once
 
 #include "caustics/caustic_map.h"
@@ -23,7 +24,7 @@ class CausticPass : public SamplingPass {
 
     std::string type() const override { return "caustics"; }
     std::string lightPaths() const override { return "L S+ D S* E"; }
-    std::set<std::string> products() const override { return {"caustics"}; }
+    std::set<std::string> products() const override { return {"caustics", "caustic map"}; }
     PassStats parameters() const override;
     PassStats stats() const override;
 

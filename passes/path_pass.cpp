@@ -10,7 +10,7 @@ std::set<std::string> PathPass::needs() const {
     if (settings_.reuseRadiosity)
         needs.insert("radiosity");
     if (settings_.causticsAtReuse)
-        needs.insert("caustics");
+        needs.insert("caustic map");
     return needs;
 }
 
@@ -18,7 +18,7 @@ void PathPass::adapt(const PipelineShape& shape) {
     settings_.excludeCaustics = caustics_ == Caustics::Exclude ||
                                 (caustics_ == Caustics::Auto && shape.products.count("caustics"));
     // A caustic map made before this pass also lights the second diffuse vertex.
-    settings_.causticsAtReuse = settings_.reuseRadiosity && shape.madeBefore.count("caustics");
+    settings_.causticsAtReuse = settings_.reuseRadiosity && shape.madeBefore.count("caustic map");
 }
 
 PassStats PathPass::parameters() const {
@@ -31,7 +31,7 @@ PassStats PathPass::parameters() const {
 
 RadianceEstimator PathPass::makeEstimator(PassContext& context) {
     radiosity_ = context.product<RadiositySolution>("radiosity");
-    causticMap_ = context.product<CausticMap>("caustics");
+    causticMap_ = context.product<CausticMap>("caustic map");
     tracer_ =
         std::make_unique<PathTracer>(context.scene, settings_, radiosity_.get(), causticMap_.get());
     return [tracer = tracer_.get()](const Ray& ray, Sampler& sampler, FirstHit* firstHit,

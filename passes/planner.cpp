@@ -47,11 +47,12 @@ std::optional<PipelineProblem> checkPipeline(Pipeline& pipeline) {
     for (size_t i = 0; i < passes.size(); ++i) {
         for (const std::string& need : passes[i]->needs()) {
             if (made.count(need) == 0) {
-                // Products are named after the pass type that makes them.
+                // Products are named after the pass type that makes them, but the map.
+                const std::string maker = need == "caustic map" ? "caustics" : need;
                 return PipelineProblem{i, passName(i, *passes[i]) + " reuses the " + need +
                                               " product, which no earlier pass makes: put a pass "
                                               "of type '" +
-                                              need + "' before it"};
+                                              maker + "' before it"};
             }
         }
         for (const std::string& product : passes[i]->products())

@@ -8,6 +8,7 @@
 #include "passes/path_pass.h"
 #include "passes/pipeline.h"
 #include "passes/planner.h"
+#include "passes/progressive_caustic_pass.h"
 #include "passes/radiosity_pass.h"
 
 #include <algorithm>
@@ -179,23 +180,40 @@ std::unique_ptr<Pass> distributionPass(const ScriptTable& p, const PassOverrides
     return std::make_unique<DistributionPass>(settings);
 }
 
-// The caustic pass: CausticSettings' keys (the table at the top of caustics/caustic_map.cpp),
-// checked by validateCausticSettings, and max_specular_depth for its camera rays.
+// The caustic pass. `method` picks the reconstruction and so the keys that are valid: a photon
+// map (CausticSettings' keys, the table at the top of caustics/caustic_map.cpp, and view_spp) or
+// stochastic progressive photon mapping (ProgressiveCausticSettings' keys and iterations); both
+// take max_specular_depth for their camera rays. Each set is checked by its validate function.
 std::unique_ptr<Pass> causticPass(const ScriptTable& p, const PassOverrides&) {
-    CausticSettings s;
-    s.photons = p.get<int64_t>("photons", s.photons);
-    s.k = p.get("k", s.k);
-    s.maxRadius = p.get("max_radius", s.maxRadius);
-    const std::string kernel = p.get<std::string>("kernel", kernelName(s.kernel));
-    if (const auto parsed = parseKernel(kernel))
-        s.kernel = *parsed;
-    else
-        throw p.error("kernel",
-                      "unknown kernel '" + kernel + "'; valid: cone, epanechnikov, gaussian");
-    s.seed = static_cast<uint32_t>(p.get<int64_t>("seed", s.seed, 0, UINT32_MAX));
+    const std::string method = p.get<std::string>("method", "photon_map");
     const int maxSpecularDepth = p.get("max_specular_depth", 16, 0, kMaxDepthLimit);
-    const int viewSpp = p.get("view_spp", 16, 1, std::numeric_limits<int>::max());
     try {
+        if (method == "progressive") {
+            ProgressiveCausticSettings s;
+            s.photonsPerIteration = p.get<int64_t>("photons_per_iteration", s.photonsPerIteration);
+            s.initialRadius = p.get("initial_radius", s.initialRadius);
+            s.alpha = p.get("alpha", s.alpha);
+            s.seed = static_cast<uint32_t>(p.get<int64_t>("seed", s.seed, 0, UINT32_MAX));
+            const int iterations = p.get("iterations", 64, 1, std::numeric_limits<int>::max());
+            return std::make_unique<ProgressiveCausticPass>(s, iterations, maxSpecularDepth);
+        }
+        if (method != "photon_map") {
+            throw p.error("method",
+                          "unknown method '" + method + "'; valid: photon_map, progressive");
+        }
+        CausticSettings s;
+        s.photons = p.get<int64_t>("photons", s.photons);
+        s.k = p.get("k", s.k);
+        s.maxRadius = p.get("max_radius", s.maxRadius);
+        const std::string kernel = p.get<std::string>("kernel", kernelName(s.kernel));
+        const auto parsed = parseKernel(kernel);
+        if (!parsed) {
+            throw p.error("kernel",
+                          "unknown kernel '" + kernel + "'; valid: cone, epanechnikov, gaussian");
+        }
+        s.kernel = *parsed;
+        s.seed = static_cast<uint32_t>(p.get<int64_t>("seed", s.seed, 0, UINT32_MAX));
+        const int viewSpp = p.get("view_spp", 16, 1, std::numeric_limits<int>::max());
         return std::make_unique<CausticPass>(s, maxSpecularDepth, viewSpp);
     } catch (const UsageError& e) {
         throw atKey(p, "caustics.", e);

@@ -223,6 +223,14 @@ TEST_F(PassScriptTest, PipelinesThatCountAPathTwiceOrLackAProduct) {
                   .substr(0, 99),
               "10:1: pass[2]: pass 3 (caustics) and pass 2 (path) both count the light paths L S D "
               "E, L S D S E, L");
+    const std::string caustics = kScene + "[[pass]]\ntype = \"caustics\"\n";
+    EXPECT_EQ(firstLine(error(caustics + "method = \"sppm\"\n")),
+              "4:10: pass[0].method: unknown method 'sppm'; valid: photon_map, progressive");
+    // A key of the other method is unknown to this one.
+    EXPECT_EQ(firstLine(error(caustics + "method = \"progressive\"\nk = 5\n")).substr(0, 35),
+              "5:1: pass[0].k: unknown key; valid ");
+    EXPECT_EQ(firstLine(error(caustics + "method = \"progressive\"\nalpha = 1.5\n")).substr(0, 30),
+              "5:9: pass[0].alpha: expected a");
     EXPECT_EQ(firstLine(error(kScene + kPath + "caustics = \"some\"\n")),
               "4:12: pass[0].caustics: unknown value 'some'; valid: auto, include, exclude");
 }

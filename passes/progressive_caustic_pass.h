@@ -1,0 +1,46 @@
+// The caustic pass by stochastic progressive photon mapping (caustics/progressive_caustics.h;
+// Hachisuka and Jensen 2009): each iteration traces one camera ray per pixel through specular
+// vertices to its first diffuse vertex (the pixel's visible point), shoots a new batch of
+// photons and updates every pixel's radius and flux, so that the caustic converges to the right
+// answer as iterations are added instead of to a blurred one. `method = "progressive"` of a
+// caustics pass.
+//
+// Contribution: image layer "caustics", light paths L S+ D S* E, like the photon-map pass; product
+// "caustics" (a path pass leaves those paths to it) but no caustic map for a later pass to reuse.
+// A visible point is the first vertex with a non-delta lobe: the caustic seen at a further vertex
+// through a smooth coat's reflection (a surface with both kinds of lobe) is left out.
+#pragma once
+
+#include "caustics/progressive_caustics.h"
+#include "core/pass.h"
+
+#include <memory>
+
+namespace penumbra {
+
+class ProgressiveCausticPass : public Pass {
+  public:
+    // Validates the settings (UsageError naming the key).
+    ProgressiveCausticPass(ProgressiveCausticSettings settings, int iterations,
+                           int maxSpecularDepth);
+    ~ProgressiveCausticPass() override;
+
+    std::string type() const override { return "caustics"; }
+    std::string lightPaths() const override { return "L S+ D S* E"; }
+    std::set<std::string> products() const override { return {"caustics"}; }
+    PassStats parameters() const override;
+    void prepare(PassContext& context) override;
+    // One iteration; finished after `iterations` of them.
+    bool run(PassContext& context) override;
+    PassStats stats() const override;
+
+  private:
+    ProgressiveCausticSettings settings_;
+    int iterations_;
+    int maxSpecularDepth_;
+    std::unique_ptr<ProgressiveCaustics> caustics_;
+    std::unique_ptr<class Progress> progress_;
+    double seconds_ = 0.0;
+};
+
+}  // namespace penumbra
