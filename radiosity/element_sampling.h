@@ -62,7 +62,11 @@ struct PunctualDirect {
 // Samples `samples` stratified points of the element (seed `seed`, "pixel" (element, 0)) with one
 // shadow ray per light each: E = I cos(theta) T / d² for point and spot lights, E_perp cos(theta)
 // T for directional ones (pbrt-v4's direct lighting for delta lights), T the transmittance of
-// the shadow ray. Costs samples * lights.size() rays. samples >= 1.
+// the shadow ray. A directional light's D is the mean of E over the points; a point or spot
+// light's is Omega / A times the mean of E over the points weighted to solid angle, Omega the
+// exact solid angle the element subtends at the light, so that it is exact for an unshadowed
+// isotropic light however close and however large the element. Costs samples * lights.size()
+// rays. samples >= 1.
 PunctualDirect punctualDirect(const Scene& scene, const RadiosityMesh& mesh, int element,
                               std::span<const Light* const> lights, int samples, uint32_t seed);
 
