@@ -9,6 +9,8 @@
 // A failing scene leaves its test render and the diff heat maps in
 // <build>/regression-failures/ and prints their paths. Other tests prove that the gates fail
 // for a render 3 % too bright or too dark, a 3 % change of one wall's albedo and extra noise.
+// Each entry is a scene through a pipeline preset: the path tracer, or whitted, distribution
+// and hybrid, each against a reference of its own pipeline (they are biased by design).
 // The radiosity pipeline is deterministic: its regression is a near-exact comparison.
 #include "core/image_io.h"
 #include "tests/cli_runner.h"
@@ -38,6 +40,11 @@ namespace {
 // those of the variance renders (2000 and up), so the three are independent.
 struct RegressionScene {
     std::string name;  // folder under scenes/, holding NAME.gltf, reference.exr, variance.exr
+    // The pipeline preset (render --pipeline) whose output is gated; "reference" (the path
+    // tracer) uses reference.exr and variance.exr, another PIPELINE-reference.exr and
+    // PIPELINE-variance.exr, references of that pipeline (it is biased by design: the test
+    // checks that its output does not change).
+    std::string pipeline = "reference";
     int width = 128, height = 128, spp = 64;
     // K of the bias gate: 16 x 16 blocks, 8 x 8 of them at 128 x 128. Their noise is 256 times
     // smaller than a pixel's while a 3 % bias stays (docs/testing.md).
@@ -53,15 +60,36 @@ struct RegressionScene {
     // relative to m (docs/testing.md).
     double pixelsFactor = 1.3, blocksFactor = 1.3;
 };
+// Fields in order: name, pipeline, width, height, spp, blockSize, tailAllowance, pixelsFactor,
+// blocksFactor.
 const RegressionScene kCornellBox{"cornell-box"};
 // Measured over 10 seeds: sd 9 % of m for the pixels, 30 % for the blocks.
-const RegressionScene kGlossy{"glossy", 128, 128, 64, 16, 2.0, 1.6, 2.8};
+const RegressionScene kGlossy{"glossy", "reference", 128, 128, 64, 16, 2.0, 1.6, 2.8};
 // Caustics seen through diffuse surfaces are rare paths for a path tracer: their noise has a
 // heavy tail, so this scene renders 128 spp and its bias gate compares 64 x 64 block means (the
 // four quadrants): at 16 x 16 the noise of the blocks in the caustic alone is as large as a 3 %
 // bias (docs/testing.md).
 // Measured over 8 seeds: sd 8 % of m for the pixels, 24 % for the blocks.
-const RegressionScene kCausticSpheres{"caustic-spheres", 128, 128, 128, 64, 2.0, 1.6, 2.5};
+const RegressionScene kCausticSpheres{
+    "caustic-spheres", "reference", 128, 128, 128, 64, 2.0, 1.6, 2.5};
+// The pipeline presets other than the path tracer, each on a scene where what it counts
+// matters (docs/light-paths.md), at 64 x 64 to keep the test and the references small; their
+// references are the mean of the variance renders (scripts/update-references).
+// Whitted: mirror and glass recursion, direct light at the diffuse vertex. The light seen
+// through the glass sphere is a rare, very bright hit: at 64 spp one seed in five had a block
+// 9 times its expected relMSE (as much as a 3 % bias), so the test renders 256 spp (0.5 s).
+// The tail stays heavy (seeds 1-7: pixels 0.46 to 6.8 x m, sd 226 % of m; blocks 0.35 to
+// 3.6 x m, sd 112 %), hence the factors 1 + 6 sd / m; a 3 % bias still gives the blocks 35 to
+// 48 x m.
+const RegressionScene kWhitted{"caustic-spheres", "whitted", 64, 64, 256, 16, 3.0, 15.0, 8.0};
+// Distribution: direct light plus the radiosity solution's indirect light as the ambient term.
+// Measured over seeds 2-7: sd 9 % of m for the pixels, 50 % for the blocks.
+const RegressionScene kDistribution{"cornell-box", "distribution", 64, 64, 64, 16, 2.0, 1.6, 4.0};
+// Hybrid: radiosity reuse, the caustic photon map (its photons change with the seed) and path
+// tracing. Its bias gate compares 32 x 32 blocks (the quadrants): with 16 x 16 ones a 3 % bias
+// raised the block relMSE to 2.8-4.1 x m over seeds 1-7, around the threshold m + 6 sd = 3.7 m.
+// Measured over seeds 1-7: sd 9 % of m for the pixels, 39 % for the 32 x 32 blocks.
+const RegressionScene kHybrid{"caustic-spheres", "hybrid", 64, 64, 32, 32, 2.0, 1.6, 2.5};
 
 // The test's seed: 1, or PENUMBRA_REGRESSION_SEED to check the thresholds with other seeds
 // (docs/testing.md, "Adding a regression scene").
@@ -83,6 +111,18 @@ std::string sceneGltf(const RegressionScene& scene) {
     return sceneFolder(scene.name) + "/" + scene.name + ".gltf";
 }
 
+// The stored file `kind` ("reference.exr", "variance.exr") of the scene's pipeline.
+std::string storedFile(const RegressionScene& scene, const std::string& kind) {
+    const std::string prefix = scene.pipeline == "reference" ? "" : scene.pipeline + "-";
+    return sceneFolder(scene.name) + "/" + prefix + kind;
+}
+
+// The entry's name in messages and failure files: the scene, then a pipeline other than the
+// path tracer.
+std::string entryName(const RegressionScene& scene) {
+    return scene.pipeline == "reference" ? scene.name : scene.name + "-" + scene.pipeline;
+}
+
 std::string failureFolder() {
     return std::string(PENUMBRA_BINARY_DIR) + "/regression-failures";
 }
@@ -90,6 +130,24 @@ std::string failureFolder() {
 int intAttribute(const ImageMetadata& metadata, const std::string& key) {
     const ImageMetadata::Value* value = metadata.find(key);
     return value && std::holds_alternative<int>(*value) ? std::get<int>(*value) : 0;
+}
+
+// The beauty (R, G, B) of an image whose other channels are a pipeline's pass layers (hybrid:
+// caustics.*, path.*): the gates compare the beauty, as `penumbra diff` does by default. A
+// layer's own noise is not what the regression is about, and the caustic layer's variance, from
+// few renders, is zero in pixels that a rare photon reaches (a z of 29 for one such photon).
+Image beauty(const Image& image) {
+    if (image.channels() == 3)
+        return image;
+    Image rgb(image.width(), image.height(), {"R", "G", "B"});
+    for (int c = 0; c < 3; ++c) {
+        const int from = image.channelIndex(rgb.channelNames()[c]);
+        EXPECT_GE(from, 0) << "no channel " << rgb.channelNames()[c];
+        for (int y = 0; y < image.height() && from >= 0; ++y)
+            for (int x = 0; x < image.width(); ++x)
+                rgb.at(x, y, c) = image.at(x, y, from);
+    }
+    return rgb;
 }
 
 // One `penumbra diff` gate: relMSE with eps `epsilon`, of pixels (downsample 1) or block means.
@@ -155,17 +213,23 @@ struct StoredReference {
 StoredReference loadReference(const RegressionScene& scene) {
     StoredReference stored;
     ImageMetadata referenceMetadata, varianceMetadata;
-    stored.referencePath = sceneFolder(scene.name) + "/reference.exr";
-    stored.reference = readImage(stored.referencePath, &referenceMetadata);
-    stored.variance = readImage(sceneFolder(scene.name) + "/variance.exr", &varianceMetadata);
+    stored.referencePath = storedFile(scene, "reference.exr");
+    stored.reference = beauty(readImage(stored.referencePath, &referenceMetadata));
+    const std::string variancePath = storedFile(scene, "variance.exr");
+    stored.variance = beauty(readImage(variancePath, &varianceMetadata));
     // A variance image measured at another spp or size describes another test: regenerate.
     EXPECT_EQ(intAttribute(varianceMetadata, "penumbra:spp"), scene.spp)
-        << scene.name << "/variance.exr was made for another spp: run scripts/update-references";
+        << variancePath << " was made for another spp: run scripts/update-references";
     EXPECT_EQ(stored.variance.width(), scene.width) << "run scripts/update-references";
     EXPECT_EQ(stored.variance.height(), scene.height) << "run scripts/update-references";
     const int referenceSpp = intAttribute(referenceMetadata, "penumbra:spp");
-    EXPECT_GT(referenceSpp, 0) << scene.name << "/reference.exr has no penumbra:spp";
-    stored.options.referenceVarianceRatio = double(scene.spp) / std::max(referenceSpp, 1);
+    EXPECT_GT(referenceSpp, 0) << stored.referencePath << " has no penumbra:spp";
+    // A reference that is the mean of M renders at the test's spp has 1/M of a test render's
+    // variance; a long render has test spp / its spp of it.
+    const int meanOfRenders =
+        std::max(intAttribute(referenceMetadata, "penumbra:mean_of_renders"), 1);
+    stored.options.referenceVarianceRatio =
+        double(scene.spp) / (double(std::max(referenceSpp, 1)) * meanOfRenders);
     stored.options.tailAllowance = scene.tailAllowance;
 
     const double epsilon = relativeMseEpsilon(stored.reference);
@@ -185,11 +249,11 @@ StoredReference loadReference(const RegressionScene& scene) {
 Image renderTestImage(const RegressionScene& scene, const std::string& gltf,
                       const std::string& output) {
     const CliResult result = runPenumbra(
-        "render " + gltf + " -o " + output + " --quiet --width " + std::to_string(scene.width) +
-        " --height " + std::to_string(scene.height) + " --spp " + std::to_string(scene.spp) +
-        " --seed " + std::to_string(testSeed()));
+        "render " + gltf + " -o " + output + " --pipeline " + scene.pipeline + " --quiet --width " +
+        std::to_string(scene.width) + " --height " + std::to_string(scene.height) + " --spp " +
+        std::to_string(scene.spp) + " --seed " + std::to_string(testSeed()));
     EXPECT_EQ(result.status, 0) << result.output;
-    return readImage(output);
+    return beauty(readImage(output));
 }
 
 // Runs every gate on the image file `test` and prints the results; with a non-empty
@@ -226,15 +290,15 @@ void writeScaled(const Image& image, float scale, const std::string& path) {
 void expectMatchesReference(const RegressionScene& scene) {
     const StoredReference stored = loadReference(scene);
     std::filesystem::create_directories(failureFolder());
-    const std::string stem = failureFolder() + "/" + scene.name;
+    const std::string stem = failureFolder() + "/" + entryName(scene);
     const std::string testPath = stem + "-test.exr";
     const Image test = renderTestImage(scene, sceneGltf(scene), testPath);
-    std::cout << scene.name << " at " << scene.spp << " spp, seed " << testSeed() << ":\n";
+    std::cout << entryName(scene) << " at " << scene.spp << " spp, seed " << testSeed() << ":\n";
     const bool gatesPassed = allPassed(runGates(stored, testPath, stem + "-heatmap"));
     const ImageCompareResult blocks =
         compareImages(test, stored.reference, stored.variance, stored.options);
     std::cout << "  " << blocks.summary() << "\n";
-    EXPECT_TRUE(gatesPassed) << "penumbra diff failed the render of " << scene.name;
+    EXPECT_TRUE(gatesPassed) << "penumbra diff failed the render of " << entryName(scene);
     EXPECT_TRUE(blocks.passed) << blocks.reason;
     const std::vector<std::string> failureFiles = {testPath, stem + "-heatmap-pixels.png",
                                                    stem + "-heatmap-blocks.png"};
@@ -247,11 +311,11 @@ void expectMatchesReference(const RegressionScene& scene) {
             std::cout << "  " << file << "\n";
     }
 
-    TempDir dir("regression-" + scene.name);
+    TempDir dir("regression-" + entryName(scene));
     writeScaled(test, 1.03f, dir.file("scaled.exr"));
     std::cout << "the same x 1.03:\n";
     EXPECT_EQ(runGates(stored, dir.file("scaled.exr")).back().status, 1)
-        << "the block gate of " << scene.name << " misses a 3 % bias";
+        << "the block gate of " << entryName(scene) << " misses a 3 % bias";
 }
 
 TEST(Regression, CornellBoxMatchesReference) {
@@ -264,6 +328,18 @@ TEST(Regression, GlossyMatchesReference) {
 
 TEST(Regression, CausticSpheresMatchesReference) {
     expectMatchesReference(kCausticSpheres);
+}
+
+TEST(Regression, WhittedPipelineMatchesReference) {
+    expectMatchesReference(kWhitted);
+}
+
+TEST(Regression, DistributionPipelineMatchesReference) {
+    expectMatchesReference(kDistribution);
+}
+
+TEST(Regression, HybridPipelineMatchesReference) {
+    expectMatchesReference(kHybrid);
 }
 
 // The gates must fail for a render 3 % too bright or too dark everywhere, e.g. a light unit or
