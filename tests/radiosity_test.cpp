@@ -568,8 +568,9 @@ TEST(HierarchicalRadiosity, ReportsItsStagesToTheProgressSink) {
                   << stage.summary << "\n";
         EXPECT_TRUE(stage.ended) << stage.name;
         EXPECT_FALSE(stage.summary.empty()) << stage.name;
-        if (stage.total > 0)
+        if (stage.total > 0) {
             EXPECT_EQ(stage.done, stage.total) << stage.name;
+        }
         gathers += stage.name.rfind("gather", 0) == 0;
     }
     // A gather after the first links, one per refinement round, and the last.
