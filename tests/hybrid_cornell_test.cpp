@@ -30,9 +30,9 @@ constexpr int kMinPixels = 30;
 // view itself is off by -2.4 % and +3.2 % (tests/radiosity_cornell_test.cpp); with reuse disabled
 // the same path tracer gives the reference's answer. The distribution pipeline, which takes the
 // indirect light from the solution already at the visible surface, was within [-3.4 %, +3.1 %]
-// (seed 7), like the radiosity view: the solution's error is in its indirect part. This bound holds the pipelines to what they
-// reach so that a regression fails; it comes down to 0.03 with the radiosity solver's accuracy
-// (issue 3).
+// (seed 7), like the radiosity view: the solution's error is in its indirect part. This bound holds
+// the pipelines to what they reach so that a regression fails; it comes down to 0.03 with the
+// radiosity solver's accuracy (issue 3).
 constexpr double kTolerance = 0.045;
 constexpr int kSpp = 64;
 
