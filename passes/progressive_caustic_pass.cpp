@@ -80,7 +80,9 @@ bool ProgressiveCausticPass::run(PassContext& context) {
     caustics_->iterate(points, nullptr);
     progress_->advance(1);
     seconds_ += secondsSince(start);
-    if (caustics_->iterations() < iterations_ && !(s.timeLimit > 0.0 && s.spp <= 1))
+    // A fixed number of iterations, like the photon map's view: the time limit is left to the
+    // passes after it.
+    if (caustics_->iterations() < iterations_)
         return false;
     progress_->finish();
     Image image(s.width, s.height, {"R", "G", "B"});

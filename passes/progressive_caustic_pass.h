@@ -30,7 +30,7 @@ class ProgressiveCausticPass : public Pass {
     std::set<std::string> products() const override { return {"caustics"}; }
     PassStats parameters() const override;
     void prepare(PassContext& context) override;
-    // One iteration; finished after `iterations` of them.
+    // One iteration; finished after `iterations` of them (whatever the time limit).
     bool run(PassContext& context) override;
     PassStats stats() const override;
 
