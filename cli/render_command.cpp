@@ -90,7 +90,7 @@ void render(RenderOptions& options) {
         applyScript(*script, options);
     if (options.outputs.empty())
         throw UsageError("--output is required (a pass script may give `output` instead)");
-    settings.aovs = splitList(options.aovList);
+    settings.aovs = expandAovNames(splitList(options.aovList));
     // Adaptive sampling records what it did: the samples each pixel took.
     if (settings.noiseThreshold > 0.0f &&
         std::find(settings.aovs.begin(), settings.aovs.end(), "spp") == settings.aovs.end())
@@ -233,7 +233,9 @@ Command addRenderCommand(CLI::App& app) {
                      "0 = off. Adds the `spp` layer")
         ->check(CLI::Range(0.0f, 1.0f));
     command->add_option("--aov", options->aovList,
-                        "Extra EXR layers, comma separated: albedo,normal,depth,spp");
+                        "Extra EXR layers, comma separated: albedo, normal, depth, spp, and the "
+                        "light-path components emission, direct, indirect, specular (which sum "
+                        "to the beauty; `components` = all four)");
     return [options] { render(*options); };
 }
 

@@ -52,6 +52,11 @@ class PassContext {
         contributions.push_back(name);
     }
 
+    // Adds `image` to layer `name` pixel by pixel, or makes it the layer if there is none yet:
+    // for layers that several passes share, such as the light-path components
+    // (core/path_components.h). The sizes and channels must match (std::logic_error).
+    void addToLayer(const std::string& name, const Image& image);
+
     // Read-only products passes hand to later passes, by name ("radiosity": the radiosity
     // solution; "caustic map": the caustic photon map). The publisher keeps the type; a reader
     // asks for the type it expects and gets null when the product is absent.

@@ -34,10 +34,16 @@ RadianceEstimator CausticPass::makeEstimator(PassContext& context) {
     const SpecularChainSettings chain{maxSpecularDepth_, false};
     return [map = map_.get(), &scene = context.scene, chain](
                const Ray& ray, Sampler& sampler, FirstHit* firstHit, PathCounters& counters) {
-        return traceSpecularChain(
-            scene, ray, sampler, firstHit, counters, chain,
-            [map](const SurfaceHit& hit, const Bsdf& bsdf, const Vec3& wo, Sampler&,
-                  PathCounters&) { return map->radiance(hit, bsdf, wo); });
+        return traceSpecularChain(scene, ray, sampler, firstHit, counters, chain,
+                                  [map](const SurfaceHit& hit, const Bsdf& bsdf, const Vec3& wo,
+                                        Sampler&, PathCounters&) {
+                                      // L S+ D seen at the first vertex: light that scattered
+                                      // before, so indirect.
+                                      PathRadiance caustic;
+                                      caustic[PathComponent::Indirect] =
+                                          map->radiance(hit, bsdf, wo);
+                                      return caustic;
+                                  });
     };
 }
 

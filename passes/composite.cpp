@@ -1,27 +1,25 @@
 #include "passes/composite.h"
 
 #include "core/stats.h"
+#include "raytrace/image_renderer.h"
 
 #include <chrono>
-#include <stdexcept>
 
 namespace penumbra {
 
 void compositeContributions(PassContext& context) {
     const RenderSettings& s = context.settings;
-    Image beauty(s.width, s.height, {"R", "G", "B"});
-    for (const std::string& name : context.contributions) {
-        const Image& layer = context.layers.at(name);
-        if (layer.width() != beauty.width() || layer.height() != beauty.height() ||
-            layer.channels() != beauty.channels()) {
-            throw std::logic_error("composite: layer " + name + " has another size or channels");
-        }
-        const auto in = layer.pixels();
-        auto out = beauty.pixels();
-        for (size_t i = 0; i < out.size(); ++i)
-            out[i] += in[i];
+    context.layers["beauty"] = Image(s.width, s.height, {"R", "G", "B"});
+    for (const std::string& name : context.contributions)
+        context.addToLayer("beauty", context.layers.at(name));
+    // Requested layers no pass made (every image-forming pass skipped) are black, so that the
+    // output has every layer it was asked for.
+    const std::vector<std::string>& aovs = s.aovs;
+    const std::vector<AovSpec> specs = aovSpecs(aovs);
+    for (size_t a = 0; a < aovs.size(); ++a) {
+        if (!context.layers.contains(aovs[a]))
+            context.layers[aovs[a]] = Image(s.width, s.height, specs[a].channels);
     }
-    context.layers["beauty"] = std::move(beauty);
 }
 
 bool CompositePass::run(PassContext& context) {

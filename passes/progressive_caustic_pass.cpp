@@ -14,6 +14,20 @@
 
 namespace penumbra {
 
+namespace {
+
+// Each pixel keeps two SPPM measurements, one for visible points the eye sees directly and one
+// for those it sees through specular vertices: the light-path components indirect and specular
+// (core/path_components.h). Each is its own consistent estimate (an iteration whose point falls
+// in the other one gathers nothing for it), and the pixel's radiance is their sum.
+constexpr size_t kMeasurementsPerPixel = 2;
+
+size_t measurement(size_t pixel, bool throughSpecular) {
+    return pixel * kMeasurementsPerPixel + (throughSpecular ? 1 : 0);
+}
+
+}  // namespace
+
 ProgressiveCausticPass::ProgressiveCausticPass(ProgressiveCausticSettings settings, int iterations,
                                                int maxSpecularDepth)
     : settings_(settings), iterations_(iterations), maxSpecularDepth_(maxSpecularDepth) {
@@ -37,7 +51,7 @@ void ProgressiveCausticPass::prepare(PassContext& context) {
     ProgressiveCausticSettings seeded = settings_;
     seeded.seed += s.seed;  // a render's seed changes its photons too
     caustics_ = std::make_unique<ProgressiveCaustics>(
-        context.scene, static_cast<size_t>(s.width) * s.height, seeded);
+        context.scene, static_cast<size_t>(s.width) * s.height * kMeasurementsPerPixel, seeded);
     progress_ = std::make_unique<Progress>("progressive caustics",
                                            static_cast<uint64_t>(iterations_), s.quiet);
 }
@@ -48,7 +62,8 @@ bool ProgressiveCausticPass::run(PassContext& context) {
     const PixelFilter filter(parseFilter(s.filter));
     const SpecularChainSettings chain{maxSpecularDepth_, false};
     const uint32_t iteration = static_cast<uint32_t>(caustics_->iterations());
-    std::vector<VisiblePoint> points(static_cast<size_t>(s.width) * s.height);
+    std::vector<VisiblePoint> points(static_cast<size_t>(s.width) * s.height *
+                                     kMeasurementsPerPixel);
     tbb::parallel_for(
         tbb::blocked_range<int>(0, s.height), [&](const tbb::blocked_range<int>& rows) {
             Sampler sampler(s.seed);
@@ -58,22 +73,31 @@ bool ProgressiveCausticPass::run(PassContext& context) {
                     sampler.startPixelSample(IVec2(x, y), iteration);
                     const Vec2 offset = filter.sampleOffset(sampler.getPixel2D());
                     const Ray ray = context.camera.generateRay(Vec2(x, y) + Vec2(0.5f) + offset);
-                    VisiblePoint& point = points[static_cast<size_t>(y) * s.width + x];
+                    VisiblePoint point;
                     bool found = false;
                     // The chain's weight at the first diffuse vertex is what it returns when that
-                    // vertex's term is 1 and every later one 0.
-                    const Color beta =
+                    // vertex's term is 1 and every later one 0; it files that weight under
+                    // specular when the eye saw the vertex through a specular one.
+                    const PathRadiance weight =
                         traceSpecularChain(context.scene, ray, sampler, nullptr, counters, chain,
                                            [&](const SurfaceHit& hit, const Bsdf&, const Vec3& wo,
                                                Sampler&, PathCounters&) {
+                                               PathRadiance unit;
                                                if (found)
-                                                   return Color(0.0f);
+                                                   return unit;
                                                found = true;
                                                point.hit = hit;
                                                point.wo = wo;
-                                               return Color(1.0f);
+                                               unit[PathComponent::Indirect] = Color(1.0f);
+                                               return unit;
                                            });
-                    point.beta = found ? beta : Color(0.0f);
+                    if (!found)
+                        continue;
+                    point.beta = weight.total();
+                    const bool throughSpecular =
+                        maxComponent(weight[PathComponent::Specular]) > 0.0f;
+                    points[measurement(static_cast<size_t>(y) * s.width + x, throughSpecular)] =
+                        point;
                 }
             }
         });
@@ -86,14 +110,27 @@ bool ProgressiveCausticPass::run(PassContext& context) {
         return false;
     progress_->finish();
     Image image(s.width, s.height, {"R", "G", "B"});
+    Image seenDirectly = image;
+    Image seenThroughSpecular = image;
     for (int y = 0; y < s.height; ++y) {
         for (int x = 0; x < s.width; ++x) {
-            const Color L = caustics_->radiance(static_cast<size_t>(y) * s.width + x);
-            for (int c = 0; c < 3; ++c)
-                image.at(x, y, c) = L[c];
+            const size_t pixel = static_cast<size_t>(y) * s.width + x;
+            const Color direct = caustics_->radiance(measurement(pixel, false));
+            const Color specular = caustics_->radiance(measurement(pixel, true));
+            for (int c = 0; c < 3; ++c) {
+                seenDirectly.at(x, y, c) = direct[c];
+                seenThroughSpecular.at(x, y, c) = specular[c];
+                image.at(x, y, c) = direct[c] + specular[c];
+            }
         }
     }
     context.contribute(type(), std::move(image));
+    for (const std::string& aov : s.aovs) {
+        if (aov == componentName(PathComponent::Indirect))
+            context.addToLayer(aov, seenDirectly);
+        if (aov == componentName(PathComponent::Specular))
+            context.addToLayer(aov, seenThroughSpecular);
+    }
     return true;
 }
 

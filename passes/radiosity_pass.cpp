@@ -61,28 +61,39 @@ void RadiosityPass::prepare(PassContext& context) {
     renderStart_ = std::chrono::steady_clock::now();
 }
 
-Color RadiosityPass::Li(Ray ray, FirstHit* firstHit, PathCounters& counters) const {
+PathRadiance RadiosityPass::Li(Ray ray, FirstHit* firstHit, PathCounters& counters) const {
     Color beta(1.0f);
     const Vec3 cameraOrigin = ray.o;
     for (int layer = 0; layer <= kMaxTransparentLayers; ++layer) {
         ++counters.rays;
         const std::optional<SurfaceHit> hit = scene_->intersect(ray);
         if (!hit)
-            return Color(0.0f);
+            return {};
         const bool front = hit->frontFace(ray.d);
         if (mesh_->locate(hit->mesh, hit->triangle, hit->barycentric).element >= 0) {
             if (firstHit && !firstHit->valid)
                 recordFirstHit(*scene_, *hit, scene_->bsdf(*hit), cameraOrigin, firstHit);
-            return beta *
-                   solution_->radiance(hit->mesh, hit->triangle, hit->barycentric, true, front);
+            // The solution's split: its indirect part (L D D+) and the first reflection of the
+            // sources (L D) make up the reflected radiance.
+            const Color total =
+                solution_->radiance(hit->mesh, hit->triangle, hit->barycentric, true, front);
+            const Color reflected =
+                solution_->radiance(hit->mesh, hit->triangle, hit->barycentric, false, front);
+            const Color indirect =
+                solution_->indirectRadiance(hit->mesh, hit->triangle, hit->barycentric, front);
+            PathRadiance L;
+            L[PathComponent::Emission] = beta * (total - reflected);
+            L[PathComponent::Direct] = beta * (reflected - indirect);
+            L[PathComponent::Indirect] = beta * indirect;
+            return L;
         }
         // A surface the mesh does not hold (transmissive): only thin glass lets light through.
         beta *= scene_->straightTransmittance(*hit, scene_->bsdf(*hit), -ray.d);
         if (maxComponent(beta) <= 0.0f)
-            return Color(0.0f);
+            return {};
         ray = Scene::spawnRay(*hit, ray.d);
     }
-    return Color(0.0f);
+    return {};
 }
 
 bool RadiosityPass::run(PassContext& context) {

@@ -48,7 +48,7 @@ class RadiosityPass : public Pass {
     // Radiance (cd/m²) arriving along -ray.d at the ray's origin from the first opaque surface
     // the mesh holds: thin glass and alpha cut-outs in front of it are passed through with their
     // straight transmittance (Scene::straightTransmittance); zero when the ray leaves the scene.
-    Color Li(Ray ray, FirstHit* firstHit, PathCounters& counters) const;
+    PathRadiance Li(Ray ray, FirstHit* firstHit, PathCounters& counters) const;
 
   private:
     std::variant<RadiositySettings, ProgressiveSettings> settings_;

@@ -15,22 +15,23 @@ DistributionTracer::DistributionTracer(const Scene& scene, const DistributionSet
                                        const RadiositySolution* indirect)
     : scene_(scene), settings_(settings), indirect_(indirect) {}
 
-Color DistributionTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHit,
-                             PathCounters& counters) const {
+PathRadiance DistributionTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHit,
+                                    PathCounters& counters) const {
     const SpecularChainSettings chain{settings_.maxSpecularDepth, true};
     return traceSpecularChain(
         scene_, ray, sampler, firstHit, counters, chain,
         [this](const SurfaceHit& hit, const Bsdf& bsdf, const Vec3& wo, Sampler& vertexSampler,
                PathCounters& vertexCounters) {
             // No BSDF sample of a non-delta lobe is traced, so the light sample stands alone.
-            Color L = sampleDirectLight(scene_, hit, bsdf, wo, vertexSampler, vertexCounters,
-                                        DirectLightWeight::LightOnly);
+            PathRadiance L;
+            L[PathComponent::Direct] = sampleDirectLight(
+                scene_, hit, bsdf, wo, vertexSampler, vertexCounters, DirectLightWeight::LightOnly);
             if (indirect_) {
-                L += indirect_->indirectRadiance(hit.mesh, hit.triangle, hit.barycentric,
-                                                 glm::dot(wo, hit.ng) > 0.0f);
+                L[PathComponent::Indirect] += indirect_->indirectRadiance(
+                    hit.mesh, hit.triangle, hit.barycentric, glm::dot(wo, hit.ng) > 0.0f);
             }
             if (settings_.ambient > 0.0f)
-                L += bsdf.diffuseReflectance() * settings_.ambient;
+                L[PathComponent::Indirect] += bsdf.diffuseReflectance() * settings_.ambient;
             return L;
         });
 }

@@ -43,7 +43,7 @@ class DistributionTracer {
                        const RadiositySolution* indirect);
 
     // Radiance (cd/m²) arriving along -ray.d at the ray's origin (contract of PathTracer::Li).
-    Color Li(Ray ray, Sampler& sampler, FirstHit* firstHit, PathCounters& counters) const;
+    PathRadiance Li(Ray ray, Sampler& sampler, FirstHit* firstHit, PathCounters& counters) const;
 
   private:
     const Scene& scene_;

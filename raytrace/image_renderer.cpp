@@ -18,12 +18,46 @@ constexpr int kTileSize = 16;
 
 }  // namespace
 
+namespace {
+
+// The light-path component an AOV name stands for, or -1.
+int componentIndex(const std::string& name) {
+    const auto it = std::find(kPathComponentNames.begin(), kPathComponentNames.end(), name);
+    return it == kPathComponentNames.end() ? -1
+                                           : static_cast<int>(it - kPathComponentNames.begin());
+}
+
+}  // namespace
+
+std::vector<std::string> expandAovNames(const std::vector<std::string>& names) {
+    std::vector<std::string> expanded;
+    const auto add = [&expanded](const std::string& name) {
+        if (std::find(expanded.begin(), expanded.end(), name) == expanded.end())
+            expanded.push_back(name);
+    };
+    for (const std::string& name : names) {
+        if (name != "components") {
+            add(name);
+            continue;
+        }
+        for (const std::string_view component : kPathComponentNames)
+            add(std::string(component));
+    }
+    return expanded;
+}
+
+bool isComponentAov(const std::string& name) {
+    return componentIndex(name) >= 0;
+}
+
 std::vector<AovSpec> aovSpecs(const std::vector<std::string>& names) {
     std::vector<AovSpec> specs;
     for (const std::string& name : names) {
-        if (name != "albedo" && name != "normal" && name != "depth" && name != "spp") {
+        if (name != "albedo" && name != "normal" && name != "depth" && name != "spp" &&
+            !isComponentAov(name)) {
             throw UsageError("--aov: unknown layer '" + name +
-                             "'; valid: albedo, normal, depth, spp");
+                             "'; valid: albedo, normal, depth, spp, emission, direct, indirect, "
+                             "specular, components (the last four)");
         }
         if (name == "spp") {
             specs.push_back({name, {"N"}});
@@ -61,12 +95,19 @@ ImageRenderer::ImageRenderer(const Camera& camera, const RenderSettings& setting
       aovNames_(settings.aovs),
       film_(settings.width, settings.height, aovSpecs(aovNames_)),
       converged_(static_cast<size_t>(settings.width) * settings.height, 0),
-      activePixels_(converged_.size()) {}
+      activePixels_(converged_.size()) {
+    for (const std::string& aov : aovNames_)
+        aovComponents_.push_back(componentIndex(aov));
+}
 
 void ImageRenderer::publish(PassContext& context, const std::string& name) const {
     context.contribute(name, film_.resolve());
-    for (size_t a = 0; a < aovNames_.size(); ++a)
-        context.layers[aovNames_[a]] = resolveAov(a);
+    for (size_t a = 0; a < aovNames_.size(); ++a) {
+        if (aovComponents_[a] >= 0)
+            context.addToLayer(aovNames_[a], resolveAov(a));
+        else
+            context.layers[aovNames_[a]] = resolveAov(a);
+    }
 }
 
 Image ImageRenderer::resolveAov(size_t aov) const {
@@ -101,8 +142,9 @@ void ImageRenderer::renderSamplePass() {
                     const Vec2 offset = filter_.sampleOffset(sampler.getPixel2D());
                     const Ray ray = camera_.generateRay(Vec2(pixel) + Vec2(0.5f) + offset);
                     FirstHit firstHit;
-                    const Color L =
+                    const PathRadiance components =
                         estimator_(ray, sampler, wantAovs ? &firstHit : nullptr, counters);
+                    const Color L = components.total();
                     // NaN and Inf never reach the film: dropped and counted (DEVELOPERS.md).
                     if (!isFinite(L)) {
                         ++dropped;
@@ -110,7 +152,11 @@ void ImageRenderer::renderSamplePass() {
                     }
                     film_.addSample(pixel, L, 1.0f);
                     for (size_t a = 0; a < aovNames_.size(); ++a) {
-                        if (aovNames_[a] != "spp")
+                        const int component = aovComponents_[a];
+                        if (component >= 0)
+                            film_.addAov(pixel, static_cast<int>(a),
+                                         components.components[static_cast<size_t>(component)]);
+                        else if (aovNames_[a] != "spp")
                             film_.addAov(pixel, static_cast<int>(a),
                                          aovValue(aovNames_[a], firstHit));
                     }

@@ -17,11 +17,19 @@
 
 namespace penumbra {
 
-// The film layers for AOV names (albedo, normal, depth, spp); UsageError for an unknown name.
+// AOV names as the user lists them, with "components" standing for the four light-path
+// components (core/path_components.h) in their order; repeats are dropped.
+std::vector<std::string> expandAovNames(const std::vector<std::string>& names);
+// The film layers for AOV names (albedo, normal, depth, spp, and the components emission,
+// direct, indirect, specular); UsageError for an unknown name.
 std::vector<AovSpec> aovSpecs(const std::vector<std::string>& names);
+// Whether an AOV is a light-path component: such layers sum to the beauty, so every pass adds its
+// share to them instead of replacing them.
+bool isComponentAov(const std::string& name);
 
 // Radiance estimate for one camera ray (see PathTracer::Li for the contract).
-using RadianceEstimator = std::function<Color(const Ray&, Sampler&, FirstHit*, PathCounters&)>;
+using RadianceEstimator =
+    std::function<PathRadiance(const Ray&, Sampler&, FirstHit*, PathCounters&)>;
 
 class ImageRenderer {
   public:
@@ -45,9 +53,10 @@ class ImageRenderer {
     // took.
     Image resolve() const { return film_.resolve(); }
     Image resolveAov(size_t aov) const;
-    // Publishes the image as the contribution `name` of a pass, and the AOV layers.
+    // Publishes the image as the contribution `name` of a pass, and the AOV layers (adding the
+    // components to what earlier passes published: PassContext::addToLayer).
     void publish(PassContext& context, const std::string& name) const;
-    // AOV names in film order (a subset of albedo, normal, depth).
+    // AOV names in film order.
     const std::vector<std::string>& aovNames() const { return aovNames_; }
 
   private:
@@ -56,6 +65,7 @@ class ImageRenderer {
     RadianceEstimator estimator_;
     PixelFilter filter_;
     std::vector<std::string> aovNames_;
+    std::vector<int> aovComponents_;  // per AOV: its PathComponent, or -1 for a first-hit AOV
     Film film_;
     std::vector<uint8_t> converged_;  // per pixel: no more samples (adaptive sampling)
     size_t activePixels_;

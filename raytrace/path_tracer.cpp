@@ -39,8 +39,9 @@ PathTracer::PathTracer(const Scene& scene, const PathTracerSettings& settings,
                        const RadiositySolution* radiosity, const CausticMap* causticMap)
     : scene_(scene), settings_(settings), radiosity_(radiosity), causticMap_(causticMap) {}
 
-Color PathTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHit, PathCounters& counters) const {
-    Color L(0.0f);
+PathRadiance PathTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHit,
+                            PathCounters& counters) const {
+    PathRadiance L;
     Color beta(1.0f);
     // Product of eta^2 over refractions: beta carries the 1/eta^2 radiance scaling of each
     // refraction, which this factor undoes for the roulette decision only (pbrt-v4, 14.1.3).
@@ -54,6 +55,7 @@ Color PathTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHit, PathCounters
     // last of them: the path classes of the header's comment.
     int diffuseVertices = 0;
     bool specularAfterDiffuse = false;
+    bool firstVertexSpecular = false;  // the lobe the first vertex was left through was a delta
 
     while (true) {
         ++counters.rays;
@@ -76,7 +78,7 @@ Color PathTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHit, PathCounters
                     scene_.lightSampler().pmf(lightIndex) * light.pdfLi(lastCtx, ray.d, *hit);
                 weight = powerHeuristic(lastBsdfPdf, lightPdf);
             }
-            L += beta * Le * weight;
+            L[pathComponent(depth, firstVertexSpecular)] += beta * Le * weight;
         }
 
         const Bsdf bsdf = scene_.bsdf(*hit);
@@ -97,15 +99,18 @@ Color PathTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHit, PathCounters
         // side wo sees stands for everything a diffuse bounce here would gather.
         const bool reuseHere =
             settings_.reuseRadiosity && diffuseVertices >= 1 && bsdf.hasNonDeltaLobe();
+        // Light reflected here reaches the eye over this vertex and the ones before it.
+        const PathComponent reflectedHere = pathComponent(depth + 1, firstVertexSpecular);
         if (reuseHere && radiosity_) {
-            L += beta * radiosity_->radiance(hit->mesh, hit->triangle, hit->barycentric, false,
-                                             glm::dot(wo, hit->ng) > 0.0f);
+            L[reflectedHere] +=
+                beta * radiosity_->radiance(hit->mesh, hit->triangle, hit->barycentric, false,
+                                            glm::dot(wo, hit->ng) > 0.0f);
         }
         if (reuseHere && settings_.causticsAtReuse && causticMap_)
-            L += beta * causticMap_->radiance(*hit, bsdf, wo);
+            L[reflectedHere] += beta * causticMap_->radiance(*hit, bsdf, wo);
         if (bsdf.hasNonDeltaLobe() && !reuseHere)
-            L += beta * sampleDirectLight(scene_, *hit, bsdf, wo, sampler, counters,
-                                          DirectLightWeight::PowerHeuristic);
+            L[reflectedHere] += beta * sampleDirectLight(scene_, *hit, bsdf, wo, sampler, counters,
+                                                         DirectLightWeight::PowerHeuristic);
 
         const float uLobe = sampler.get1D();
         const Vec2 uDirection = sampler.get2D();
@@ -114,6 +119,8 @@ Color PathTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHit, PathCounters
             break;
         if (reuseHere && !bs->isDelta())
             break;  // the radiosity term above holds this bounce
+        if (depth == 0)
+            firstVertexSpecular = bs->isDelta();
         if (bs->isDelta()) {
             specularAfterDiffuse = diffuseVertices > 0;
         } else {

@@ -18,9 +18,13 @@
 // A vertex is diffuse or specular by the lobe it is left through (a plastic's diffuse base and
 // smooth coat make it either); next-event estimation and the radiosity term are taken at any
 // vertex with a non-delta lobe, in its diffuse role. lightPaths() gives the resulting set.
+//
+// Each contribution is filed under its component (core/path_components.h) by the vertices its
+// path scatters at and the lobe the first one was left through.
 #pragma once
 
 #include "core/math.h"
+#include "core/path_components.h"
 #include "core/ray.h"
 #include "core/scene.h"
 
@@ -68,7 +72,7 @@ class PathTracer {
 
     // Radiance (cd/m²) arriving along -ray.d at the ray's origin, estimated with one path.
     // The result may be non-finite only through a bug or broken input; callers drop such samples.
-    Color Li(Ray ray, Sampler& sampler, FirstHit* firstHit, PathCounters& counters) const;
+    PathRadiance Li(Ray ray, Sampler& sampler, FirstHit* firstHit, PathCounters& counters) const;
 
   private:
     const Scene& scene_;

@@ -5,10 +5,10 @@
 
 namespace penumbra {
 
-Color traceSpecularChain(const Scene& scene, Ray ray, Sampler& sampler, FirstHit* firstHit,
-                         PathCounters& counters, const SpecularChainSettings& settings,
-                         const DiffuseVertexTerm& atDiffuseVertex) {
-    Color L(0.0f);
+PathRadiance traceSpecularChain(const Scene& scene, Ray ray, Sampler& sampler, FirstHit* firstHit,
+                                PathCounters& counters, const SpecularChainSettings& settings,
+                                const DiffuseVertexTerm& atDiffuseVertex) {
+    PathRadiance L;
     Color beta(1.0f);
     const Vec3 cameraOrigin = ray.o;
     int specularDepth = 0;
@@ -20,7 +20,7 @@ Color traceSpecularChain(const Scene& scene, Ray ray, Sampler& sampler, FirstHit
         beta *= volumeAttenuation(scene, *hit, ray.d);
         const Vec3 wo = -ray.d;
         if (settings.countEmission)
-            L += beta * scene.emitted(*hit, wo);
+            L[pathComponent(specularDepth, true)] += beta * scene.emitted(*hit, wo);
 
         const Bsdf bsdf = scene.bsdf(*hit);
         const StraightThrough straight = chooseStraightThrough(scene, *hit, bsdf, wo, sampler);
@@ -31,8 +31,15 @@ Color traceSpecularChain(const Scene& scene, Ray ray, Sampler& sampler, FirstHit
         }
         recordFirstHit(scene, *hit, bsdf, cameraOrigin, firstHit);
 
-        if (bsdf.hasNonDeltaLobe())
-            L += beta * atDiffuseVertex(*hit, bsdf, wo, sampler, counters);
+        if (bsdf.hasNonDeltaLobe()) {
+            PathRadiance term = atDiffuseVertex(*hit, bsdf, wo, sampler, counters);
+            term *= beta;
+            for (size_t c = 0; c < kPathComponentCount; ++c) {
+                const PathComponent seen =
+                    specularDepth == 0 ? PathComponent(c) : PathComponent::Specular;
+                L[seen] += term.components[c];
+            }
+        }
         if (specularDepth >= settings.maxSpecularDepth)
             break;
         const float uLobe = sampler.get1D();

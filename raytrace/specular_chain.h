@@ -7,9 +7,14 @@
 // the chain goes on only if it is a delta lobe (mirror, smooth refraction), the non-delta share
 // being what the caller's term stands for. Unbiased for the delta part: the lobe choice is
 // reweighted by its probability (Bsdf::sample's pdf).
+//
+// Components (core/path_components.h): emission at the first hit is emission, the caller's term
+// at the first vertex keeps its own split, and everything seen after a specular vertex is
+// specular.
 #pragma once
 
 #include "core/bsdf.h"
+#include "core/path_components.h"
 #include "core/scene.h"
 #include "raytrace/path_tracer.h"
 
@@ -19,10 +24,11 @@ namespace penumbra {
 
 class Sampler;
 
-// The radiance the caller adds at a vertex with a non-delta lobe, towards wo.
+// The radiance the caller adds at a vertex with a non-delta lobe, towards wo, split into
+// components as if that vertex were the first.
 using DiffuseVertexTerm =
-    std::function<Color(const SurfaceHit& hit, const Bsdf& bsdf, const Vec3& wo, Sampler& sampler,
-                        PathCounters& counters)>;
+    std::function<PathRadiance(const SurfaceHit& hit, const Bsdf& bsdf, const Vec3& wo,
+                               Sampler& sampler, PathCounters& counters)>;
 
 struct SpecularChainSettings {
     int maxSpecularDepth = 16;  // specular vertices followed from the eye
@@ -30,8 +36,8 @@ struct SpecularChainSettings {
 };
 
 // Radiance (cd/m²) arriving along -ray.d at the ray's origin (contract of PathTracer::Li).
-Color traceSpecularChain(const Scene& scene, Ray ray, Sampler& sampler, FirstHit* firstHit,
-                         PathCounters& counters, const SpecularChainSettings& settings,
-                         const DiffuseVertexTerm& atDiffuseVertex);
+PathRadiance traceSpecularChain(const Scene& scene, Ray ray, Sampler& sampler, FirstHit* firstHit,
+                                PathCounters& counters, const SpecularChainSettings& settings,
+                                const DiffuseVertexTerm& atDiffuseVertex);
 
 }  // namespace penumbra

@@ -1,8 +1,12 @@
 // Light-path sets (core/light_paths.h): membership against hand-checked words, the set
 // algebra against the identities it must obey, and the partitions the pipelines rely on.
 #include "core/light_paths.h"
+#include "core/path_components.h"
 
 #include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
 
 namespace penumbra {
 namespace {
@@ -97,6 +101,43 @@ TEST(LightPaths, MalformedExpressionsNameThePosition) {
         EXPECT_NE(std::string(e.what()).find("position 1: unexpected character 'X'"),
                   std::string::npos)
             << e.what();
+    }
+}
+
+// The light-path components (core/path_components.h) partition every path: pairwise disjoint,
+// together L (D|S)* E, so that component layers sum to the beauty whatever the passes count.
+TEST(LightPaths, ComponentsPartitionEveryPath) {
+    std::vector<PathSet> components;
+    for (const std::string_view expression : kPathComponentPaths)
+        components.push_back(PathSet::parse(expression));
+    PathSet together = PathSet::parse("");
+    for (size_t a = 0; a < components.size(); ++a) {
+        for (size_t b = a + 1; b < components.size(); ++b)
+            EXPECT_TRUE((components[a] & components[b]).empty()) << a << " and " << b;
+        together = together | components[a];
+    }
+    const PathSet all = PathSet::parse("L(D|S)*E");
+    EXPECT_TRUE((all - together).empty());
+    EXPECT_TRUE((together - all).empty());
+}
+
+// pathComponent(), which the estimators file their contributions by, names the component whose
+// expression holds the path: every path of up to six scattering vertices.
+TEST(LightPaths, PathComponentAgreesWithTheExpressions) {
+    for (int vertices = 0; vertices <= 6; ++vertices) {
+        for (int bits = 0; bits < (1 << vertices); ++bits) {
+            // Vertex i from the eye is specular where bit i is set; the word runs light to eye.
+            std::string path = "L";
+            for (int i = vertices - 1; i >= 0; --i)
+                path += (bits >> i) & 1 ? 'S' : 'D';
+            path += 'E';
+            const PathComponent component = pathComponent(vertices, (bits & 1) != 0);
+            for (size_t c = 0; c < kPathComponentCount; ++c) {
+                EXPECT_EQ(PathSet::parse(kPathComponentPaths[c]).contains(path),
+                          c == static_cast<size_t>(component))
+                    << path << " in " << kPathComponentNames[c];
+            }
+        }
     }
 }
 
