@@ -91,7 +91,7 @@ Command addBakeCommand(CLI::App& app) {
         "(KHR_materials_unlit) for walkthroughs in any glTF viewer");
     auto options = std::make_shared<BakeOptions>();
     RadiositySettings& r = options->radiosity;
-    addSceneInputOptions(*command, options->scene);
+    addSceneInputOptions(*command, options->scene, PassScripts::Refused);
     command->add_option("-o,--output", options->output, "Output model: .glb or .gltf")->required();
     command->add_option("--exposure", options->exposure,
                         "Multiply the radiance (cd/m²) by 2^EV before baking (default: "

@@ -583,7 +583,7 @@ StatusCommand addBenchCommand(CLI::App& app) {
         "compare with a reference, write results.csv and error_vs_time.png");
     auto options = std::make_shared<BenchOptions>();
     RenderSettings& s = options->settings;
-    addSceneInputOptions(*command, options->scene);
+    addSceneInputOptions(*command, options->scene, PassScripts::Refused);
     command->add_option("-o,--output", options->output, "Folder for the results (created)")
         ->required();
     std::string pipelines;

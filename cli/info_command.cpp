@@ -89,7 +89,7 @@ Command addInfoCommand(CLI::App& app) {
                                        "Print what a scene contains: meshes, triangles, "
                                        "materials, lights by type, bounds, extensions");
     auto options = std::make_shared<SceneInput>();
-    addSceneInputOptions(*command, *options);
+    addSceneInputOptions(*command, *options, PassScripts::Accepted);
     return [options] {
         if (const std::optional<PassScript> script = readPassScript(*options))
             printScript(*script);

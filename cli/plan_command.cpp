@@ -70,7 +70,7 @@ Command addPlanCommand(CLI::App& app) {
         "paths each counts, passes skipped for the scene and paths no pass counts");
     auto options = std::make_shared<PlanOptions>();
     options->command = command;
-    addSceneInputOptions(*command, options->scene);
+    addSceneInputOptions(*command, options->scene, PassScripts::Accepted);
     addPipelineOption(*command, options->pipeline);
     return [options] { printPlan(*options); };
 }

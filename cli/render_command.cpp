@@ -186,7 +186,7 @@ Command addRenderCommand(CLI::App& app) {
     auto options = std::make_shared<RenderOptions>();
     options->command = command;
     RenderSettings& s = options->settings;
-    addSceneInputOptions(*command, options->scene);
+    addSceneInputOptions(*command, options->scene, PassScripts::Accepted);
     command
         ->add_option("-o,--output", options->outputs,
                      "Output image; the extension picks the format (.exr linear float, .png "

@@ -9,8 +9,12 @@
 
 namespace penumbra::cli {
 
-void addSceneInputOptions(CLI::App& command, SceneInput& input) {
-    command.add_option("scene", input.path, "Scene file: .gltf or .glb, or a .toml pass script")
+void addSceneInputOptions(CLI::App& command, SceneInput& input, PassScripts scripts) {
+    command
+        .add_option("scene", input.path,
+                    scripts == PassScripts::Accepted
+                        ? "Scene file: .gltf or .glb, or a .toml pass script"
+                        : "Scene file: .gltf or .glb")
         ->required();
     command
         .add_option("--scene-index", input.sceneIndex,
@@ -31,14 +35,17 @@ std::optional<PassScript> readPassScript(SceneInput& input) {
 
 std::unique_ptr<Scene> loadScene(const SceneInput& input) {
     const std::string extension = std::filesystem::path(input.path).extension().string();
-    // render and info read a pass script first (readPassScript); other commands take glTF only.
+    // render, plan and info read a pass script first (readPassScript); the other commands take
+    // glTF only.
     if (extension == ".toml") {
-        throw UsageError(input.path +
-                         ": pass scripts are for `render` and `info`; give a .gltf or .glb");
+        throw UsageError(
+            input.path +
+            ": pass scripts are for `render`, `plan` and `info`; give a .gltf or .glb");
     }
     if (extension != ".gltf" && extension != ".glb") {
         throw UsageError(input.path + ": unknown scene format '" + extension +
-                         "'; expected .gltf or .glb (render and info: or a .toml pass script)");
+                         "'; expected .gltf or .glb (render, plan and info: or a .toml pass "
+                         "script)");
     }
     SceneDescription description = loadGltf(input.path, input.sceneIndex);
     if (!input.quiet) {

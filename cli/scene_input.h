@@ -18,7 +18,10 @@ struct SceneInput {
     bool quiet = false;
 };
 
-void addSceneInputOptions(CLI::App& command, SceneInput& input);
+// Whether a command reads pass scripts as its SCENE (render, plan, info) or glTF only.
+enum class PassScripts { Accepted, Refused };
+
+void addSceneInputOptions(CLI::App& command, SceneInput& input, PassScripts scripts);
 
 // When SCENE is a pass script (.toml), reads it (loadPassScript) and points `input` at the
 // script's glTF scene, with the script's scene_index unless --scene-index was given. Nothing for
