@@ -3,19 +3,71 @@
 #include "core/stats.h"
 #include "radiosity/radiosity_solution.h"
 
+#include <array>
+
 namespace penumbra {
 
-PassStats DistributionPass::parameters() const {
-    if (ambient_ == Ambient::Constant) {
-        return {{"max_specular_depth", std::to_string(settings_.maxSpecularDepth)},
-                {"ambient", formatStat(settings_.ambient)}};
+Color meanReflectedRadiance(const Scene& scene, const RadiositySolution& solution) {
+    constexpr std::array<Vec3, 3> kEdgeMidpoints = {Vec3(0.5f, 0.5f, 0.0f), Vec3(0.0f, 0.5f, 0.5f),
+                                                    Vec3(0.5f, 0.0f, 0.5f)};
+    const std::span<const Mesh> meshes = scene.meshes();
+    glm::dvec3 sum(0.0);
+    double area = 0.0;
+    for (uint32_t m = 0; m < meshes.size(); ++m) {
+        const Mesh& mesh = meshes[m];
+        const Material& material = scene.materials()[mesh.material];
+        // The radiosity mesh leaves transmissive surfaces to the ray tracer (radiosity_mesh.h).
+        if (material.transmission > 0.0f)
+            continue;
+        for (uint32_t t = 0; t < mesh.triangles.size(); ++t) {
+            const glm::uvec3& v = mesh.triangles[t];
+            const double triangleArea =
+                0.5 *
+                glm::length(glm::cross(glm::dvec3(mesh.positions[v.y] - mesh.positions[v.x]),
+                                       glm::dvec3(mesh.positions[v.z] - mesh.positions[v.x])));
+            for (const bool front : {true, false}) {
+                if (!front && !material.doubleSided)
+                    continue;
+                glm::dvec3 triangleSum(0.0);
+                for (const Vec3& b : kEdgeMidpoints)
+                    triangleSum += glm::dvec3(solution.radiance(m, t, b, false, front));
+                sum += triangleArea * triangleSum / 3.0;
+                area += triangleArea;
+            }
+        }
     }
-    return {{"max_specular_depth", std::to_string(settings_.maxSpecularDepth)}};
+    return area > 0.0 ? Color(sum / area) : Color(0.0f);
+}
+
+PassStats DistributionPass::parameters() const {
+    PassStats parameters = {{"max_specular_depth", std::to_string(settings_.maxSpecularDepth)}};
+    if (ambient_ == Ambient::Constant)
+        parameters.push_back({"ambient", formatStat(settings_.ambient.r)});
+    if (ambient_ == Ambient::RadiosityMean)
+        parameters.push_back({"ambient", "radiosity"});
+    return parameters;
+}
+
+PassStats DistributionPass::stats() const {
+    PassStats stats = SamplingPass::stats();
+    if (ambient_ == Ambient::RadiosityMean) {
+        const Color& a = settings_.ambient;
+        stats.push_back(
+            {"ambient_radiance", formatStat(a.r) + " " + formatStat(a.g) + " " + formatStat(a.b)});
+    }
+    return stats;
 }
 
 RadianceEstimator DistributionPass::makeEstimator(PassContext& context) {
     radiosity_ = context.product<RadiositySolution>("radiosity");
-    tracer_ = std::make_unique<DistributionTracer>(context.scene, settings_, radiosity_.get());
+    const RadiositySolution* indirect = radiosity_.get();
+    if (ambient_ == Ambient::RadiosityMean) {
+        // Null when the planner skipped the radiosity pass: no diffuse surface to reflect.
+        settings_.ambient =
+            radiosity_ ? meanReflectedRadiance(context.scene, *radiosity_) : Color(0.0f);
+        indirect = nullptr;
+    }
+    tracer_ = std::make_unique<DistributionTracer>(context.scene, settings_, indirect);
     return [tracer = tracer_.get()](const Ray& ray, Sampler& sampler, FirstHit* firstHit,
                                     PathCounters& counters) {
         return tracer->Li(ray, sampler, firstHit, counters);

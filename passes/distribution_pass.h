@@ -1,7 +1,7 @@
 // The distribution ray-tracing pass of the `distribution` pipeline (the seed's two-pass method):
 // raytrace/distribution_tracer.h, with the ambient term from the indirect-only radiosity solution
 // an earlier radiosity pass made; or, as the `whitted` pass, with a constant ambient term (the
-// crudest preview, the seed's Eq. 2).
+// crudest preview, the seed's Eq. 2), set by the user or taken from a radiosity solution's mean.
 //
 // Contribution: image layer "distribution" (light paths of distributionLightPaths()), and the
 // requested AOVs.
@@ -14,9 +14,10 @@ namespace penumbra {
 
 class DistributionPass : public SamplingPass {
   public:
-    // With a constant ambient term instead of the radiosity solution (settings.ambient), the
-    // pass is Whitted's ray tracing (type "whitted").
-    enum class Ambient { Radiosity, Constant };
+    // With a constant ambient term instead of the radiosity solution, the pass is Whitted's ray
+    // tracing (type "whitted"): the user's settings.ambient, or the mean reflected radiance of
+    // an earlier radiosity pass's solution (meanReflectedRadiance()).
+    enum class Ambient { Radiosity, Constant, RadiosityMean };
 
     DistributionPass(DistributionSettings settings, Ambient ambient = Ambient::Radiosity)
         : settings_(settings), ambient_(ambient) {}
@@ -24,16 +25,19 @@ class DistributionPass : public SamplingPass {
     std::string type() const override {
         return ambient_ == Ambient::Radiosity ? "distribution" : "whitted";
     }
-    // Whitted's ambient constant stands for no light path: the plan names L D D+ as missing.
+    // The user's ambient constant stands for no light path: the plan names L D D+ as missing. The
+    // radiosity solution's mean stands, crudely, for the indirect light it averages.
     std::string lightPaths() const override {
-        return ambient_ == Ambient::Radiosity ? distributionLightPaths() : "L S* E | L D S* E";
+        return ambient_ == Ambient::Constant ? "L S* E | L D S* E" : distributionLightPaths();
     }
     std::set<std::string> needs() const override {
-        if (ambient_ == Ambient::Radiosity)
-            return {"radiosity"};
-        return {};
+        if (ambient_ == Ambient::Constant)
+            return {};
+        return {"radiosity"};
     }
     PassStats parameters() const override;
+    // SamplingPass's figures and, with the radiosity mean, the ambient radiance it gave.
+    PassStats stats() const override;
 
   protected:
     RadianceEstimator makeEstimator(PassContext& context) override;
@@ -45,5 +49,14 @@ class DistributionPass : public SamplingPass {
     std::shared_ptr<const RadiositySolution> radiosity_;
     std::unique_ptr<DistributionTracer> tracer_;
 };
+
+// Whitted's ambient radiance from a radiosity solution: the area-weighted mean of the reflected
+// radiance (light paths L D+) leaving the surfaces the solution holds (the opaque ones; front
+// faces, and back faces of double-sided materials). It is the radiance a surface would receive
+// from its surroundings if they were uniform: exact in a closed box of uniform walls, a crude
+// average elsewhere. Each triangle's mean is taken by the edge-midpoint rule, exact for
+// quadratic polynomials (the three-point rule of finite elements; Strang and Fix 1973, "An
+// Analysis of the Finite Element Method").
+Color meanReflectedRadiance(const Scene& scene, const RadiositySolution& solution);
 
 }  // namespace penumbra

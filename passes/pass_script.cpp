@@ -178,6 +178,11 @@ bool ScriptTable::has(const std::string& key) const {
     return impl_->table->contains(key);
 }
 
+bool ScriptTable::holdsString(const std::string& key) const {
+    const toml::node* node = impl_->table->get(key);
+    return node && node->is_string();
+}
+
 ScriptLocation ScriptTable::location(const std::string& key) const {
     const toml::node* node = impl_->table->get(key);
     return node ? locationOf(node->source()) : impl_->where;

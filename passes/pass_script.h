@@ -54,6 +54,9 @@ class ScriptTable {
     // Where the table starts (the `[[pass]]` header; 1:1 for the top level).
     ScriptLocation location() const;
     bool has(const std::string& key) const;
+    // Whether the key holds a string, for keys that take a string or a number; does not count
+    // as reading the key.
+    bool holdsString(const std::string& key) const;
     // Where the key's value is; the table's location when the key is absent.
     ScriptLocation location(const std::string& key) const;
 

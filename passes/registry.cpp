@@ -163,12 +163,20 @@ std::unique_ptr<Pass> pathPass(const ScriptTable& p, const PassOverrides& overri
     throw p.error("caustics", "unknown value '" + caustics + "'; valid: auto, include, exclude");
 }
 
-// Whitted's ray tracing: the distribution tracer with a constant ambient term.
+// Whitted's ray tracing: the distribution tracer with a constant ambient term, a number or
+// "radiosity" (the mean of an earlier radiosity pass's solution).
 std::unique_ptr<Pass> whittedPass(const ScriptTable& p, const PassOverrides&) {
     DistributionSettings settings;
     settings.maxSpecularDepth =
         p.get("max_specular_depth", settings.maxSpecularDepth, 0, kMaxDepthLimit);
-    settings.ambient = p.get("ambient", 0.0f, 0.0f, std::numeric_limits<float>::max());
+    if (p.holdsString("ambient")) {
+        const std::string source = p.get<std::string>("ambient", "");
+        if (source != "radiosity")
+            throw p.error("ambient", "unknown value '" + source + "'; valid: a number, radiosity");
+        return std::make_unique<DistributionPass>(settings,
+                                                  DistributionPass::Ambient::RadiosityMean);
+    }
+    settings.ambient = Color(p.get("ambient", 0.0f, 0.0f, std::numeric_limits<float>::max()));
     return std::make_unique<DistributionPass>(settings, DistributionPass::Ambient::Constant);
 }
 

@@ -30,7 +30,7 @@ PathRadiance DistributionTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHi
                 L[PathComponent::Indirect] += indirect_->indirectRadiance(
                     hit.mesh, hit.triangle, hit.barycentric, glm::dot(wo, hit.ng) > 0.0f);
             }
-            if (settings_.ambient > 0.0f)
+            if (maxComponent(settings_.ambient) > 0.0f)
                 L[PathComponent::Indirect] += bsdf.diffuseReflectance() * settings_.ambient;
             return L;
         });

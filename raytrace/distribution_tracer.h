@@ -27,10 +27,10 @@ class Sampler;
 
 struct DistributionSettings {
     int maxSpecularDepth = 16;  // specular vertices followed from the eye
-    // Whitted's constant ambient term (Whitted 1980, Eq. 2: I = Ia ka + ...): radiance (cd/m²)
-    // assumed to arrive uniformly at every diffuse surface, reflected by its Lambertian layer.
-    // Used instead of a radiosity solution by the `whitted` pass; 0 = none.
-    float ambient = 0.0f;
+    // Whitted's constant ambient term (Whitted 1980, Eq. 2: I = Ia ka + ...): radiance (cd/m² per
+    // channel) assumed to arrive uniformly at every diffuse surface, reflected by its Lambertian
+    // layer. Used instead of a radiosity solution by the `whitted` pass; 0 = none.
+    Color ambient{0.0f};
 };
 
 std::string distributionLightPaths();

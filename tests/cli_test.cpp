@@ -347,6 +347,24 @@ TEST(Cli, InfoShowsTheScript) {
     EXPECT_TRUE(contains(result.output, "triangles:  32\n")) << result.output;
 }
 
+// The example pass scripts of scenes/ (one per preset, commented for users to copy) stay valid:
+// each is planned (read, every key checked, the light-path bookkeeping done) without a refusal
+// or a warning of light paths no pass counts.
+TEST(Cli, EveryExampleScriptIsPlannedWithoutWarnings) {
+    const std::filesystem::path scenes = std::filesystem::path(PENUMBRA_SOURCE_DIR) / "scenes";
+    int scripts = 0;
+    for (const auto& entry : std::filesystem::recursive_directory_iterator(scenes)) {
+        if (entry.path().extension() != ".toml")
+            continue;
+        ++scripts;
+        const CliResult result = runPenumbra("plan " + entry.path().string());
+        EXPECT_EQ(result.status, 0) << entry.path() << "\n" << result.output;
+        EXPECT_TRUE(contains(result.output, "warnings: none")) << entry.path() << "\n"
+                                                               << result.output;
+    }
+    EXPECT_GE(scripts, 6);
+}
+
 TEST(Cli, InfoOnTheCornellBox) {
     const CliResult result = runPenumbra("info " + kCornellBox);
     EXPECT_EQ(result.status, 0) << result.output;

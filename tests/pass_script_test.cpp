@@ -233,6 +233,15 @@ TEST_F(PassScriptTest, PipelinesThatCountAPathTwiceOrLackAProduct) {
               "5:9: pass[0].alpha: expected a");
     EXPECT_EQ(firstLine(error(kScene + kPath + "caustics = \"some\"\n")),
               "4:12: pass[0].caustics: unknown value 'some'; valid: auto, include, exclude");
+    // Whitted's ambient: a number or "radiosity", which needs a radiosity pass before it.
+    const std::string whitted = "[[pass]]\ntype = \"whitted\"\n";
+    EXPECT_EQ(firstLine(error(kScene + whitted + "ambient = \"sky\"\n")),
+              "4:11: pass[0].ambient: unknown value 'sky'; valid: a number, radiosity");
+    EXPECT_EQ(firstLine(error(kScene + whitted + "ambient = \"radiosity\"\n")),
+              "2:1: pass[0]: pass 1 (whitted) reuses the radiosity product, which no earlier pass "
+              "makes: put a pass of type 'radiosity' before it");
+    EXPECT_EQ(firstLine(error(kScene + whitted + "ambient = -1\n")).substr(0, 30),
+              "4:11: pass[0].ambient: expecte");
 }
 
 TEST_F(PassScriptTest, MissingPasses) {
