@@ -165,32 +165,39 @@ TEST(Planner, AnalysisFindsDiffuseAndSpecularSurfaces) {
     EXPECT_TRUE(analyseScene(*withMirror).specular);
 }
 
-// Whitted's ambient term alone, in a closed Lambertian box without lights: every pixel shows the
-// walls' albedo times the ambient radiance, exactly (no light to sample, no mirror to follow).
-TEST(Planner, WhittedAmbientIsReflectedByTheLambertianLayer) {
+// The beauty of `passes` seen from inside a closed box of walls of one material, size x size
+// pixels at `spp` samples.
+Image renderInsideABox(const test::TestMaterial& wall, std::vector<std::unique_ptr<Pass>> passes,
+                       int size, int spp) {
     test::GltfBuilder builder;
-    test::TestMaterial wall;
-    wall.baseColor = Color(0.5f, 0.25f, 0.125f);
     test::addClosedBox(builder, builder.addMaterial(wall), builder.addMaterial(wall));
     builder.setPerspectiveCamera({0.0f, 0.0f, 0.5f}, {0, 0, 0, 1}, 1.2f);  // inside the box
-    const auto scene = test::loadBuiltScene(builder, "whitted_ambient");
+    const auto scene = test::loadBuiltScene(builder, "planner_box");
     RenderSettings settings;
-    settings.width = 8;
-    settings.height = 8;
-    settings.spp = 2;
+    settings.width = size;
+    settings.height = size;
+    settings.spp = spp;
     settings.quiet = true;
     const CameraDesc cameraDesc = chooseCamera(scene->description().cameras, "", scene->bounds());
     const Camera camera(cameraDesc, settings.width, settings.height);
+    Pipeline pipeline("box", std::move(passes));
+    EXPECT_FALSE(checkPipeline(pipeline).has_value());
+    PassContext context(*scene, camera, settings);
+    EXPECT_TRUE(pipeline.run(context));
+    return context.layers.at("beauty");
+}
+
+// Whitted's ambient term alone, in a closed Lambertian box without lights: every pixel shows the
+// walls' albedo times the ambient radiance, exactly (no light to sample, no mirror to follow).
+TEST(Planner, WhittedAmbientIsReflectedByTheLambertianLayer) {
+    test::TestMaterial wall;
+    wall.baseColor = Color(0.5f, 0.25f, 0.125f);
     DistributionSettings whitted;
     whitted.ambient = Color(2.0f);
     std::vector<std::unique_ptr<Pass>> passes;
     passes.push_back(
         std::make_unique<DistributionPass>(whitted, DistributionPass::Ambient::Constant));
-    Pipeline pipeline("whitted", std::move(passes));
-    ASSERT_FALSE(checkPipeline(pipeline).has_value());
-    PassContext context(*scene, camera, settings);
-    ASSERT_TRUE(pipeline.run(context));
-    const Image& beauty = context.layers.at("beauty");
+    const Image beauty = renderInsideABox(wall, std::move(passes), 8, 2);
     for (int y = 0; y < beauty.height(); ++y) {
         for (int x = 0; x < beauty.width(); ++x) {
             EXPECT_NEAR(beauty.at(x, y, 0), 1.0f, 1e-5f);
@@ -206,30 +213,15 @@ TEST(Planner, WhittedAmbientIsReflectedByTheLambertianLayer) {
 // ambient term rho times the mean reflected radiance rho Le / (1 - rho): Le / (1 - rho) in all.
 TEST(Planner, WhittedAmbientFromTheRadiositySolutionIsExactInAFurnace) {
     constexpr float kRho = 0.5f, kLe = 1.0f;
-    test::GltfBuilder builder;
     test::TestMaterial wall;
     wall.baseColor = Color(kRho);
     wall.emissive = Color(1.0f);
     wall.emissiveStrength = kLe;
-    test::addClosedBox(builder, builder.addMaterial(wall), builder.addMaterial(wall));
-    builder.setPerspectiveCamera({0.0f, 0.0f, 0.5f}, {0, 0, 0, 1}, 1.2f);  // inside the box
-    const auto scene = test::loadBuiltScene(builder, "whitted_furnace");
-    RenderSettings settings;
-    settings.width = 16;
-    settings.height = 16;
-    settings.spp = 256;
-    settings.quiet = true;
-    const CameraDesc cameraDesc = chooseCamera(scene->description().cameras, "", scene->bounds());
-    const Camera camera(cameraDesc, settings.width, settings.height);
     std::vector<std::unique_ptr<Pass>> passes;
     passes.push_back(std::make_unique<RadiosityPass>(RadiositySettings{}));
     passes.push_back(std::make_unique<DistributionPass>(DistributionSettings{},
                                                         DistributionPass::Ambient::RadiosityMean));
-    Pipeline pipeline("whitted", std::move(passes));
-    ASSERT_FALSE(checkPipeline(pipeline).has_value());
-    PassContext context(*scene, camera, settings);
-    ASSERT_TRUE(pipeline.run(context));
-    const Image& beauty = context.layers.at("beauty");
+    const Image beauty = renderInsideABox(wall, std::move(passes), 16, 256);
     double sum = 0.0;
     for (const float value : beauty.pixels())
         sum += value;
