@@ -175,9 +175,13 @@ class RadiositySolver : public RadiositySolution {
         Vec3 g{0.0f};
         float spread = 0.0f;  // receiver-side error factor of the oracle (linkErrors)
         float Fmax = 0.0f;    // largest point value of F over the receiver (sampled)
-        // Once the source has children: the shares of F that fall on each of them, so that the
+        // Once the source has children: the shares of F V that fall on each of them, so that the
         // link gathers sum_c w_c L_c rather than the source's mean radiance; w[0] < 0 until set.
         std::array<float, 4> w{-1.0f, 0.0f, 0.0f, 0.0f};
+        // Once the receiver has children: the shares of the transfer each of them gets, relative
+        // to an even share (their visible fractions of the source over their mean), so that the
+        // children hidden from the source get less; u[0] < 0 until set.
+        std::array<float, 4> u{-1.0f, 0.0f, 0.0f, 0.0f};
     };
     // A pair for the oracle; spread < 0: take the receiver-side spread from the kernel samples.
     struct RefinePair {
@@ -253,8 +257,12 @@ class RadiositySolver : public RadiositySolution {
     // With `report`, advances the current stage by one per element.
     void computeDirect(const std::vector<int>& elements, bool report = false);
     // Solution (HSA91 GatherRad, PushPullRad).
-    void setSourceWeights(int receiver, Link& link) const;
-    void updateSourceWeights();
+    // Each adds the shadow rays it casts to `rays`.
+    std::array<float, 4> childVisibility(int parent, int other, bool parentReceives,
+                                         uint64_t& rays) const;
+    void setSourceWeights(int receiver, Link& link, uint64_t& rays) const;
+    void setReceiverWeights(int receiver, Link& link, uint64_t& rays) const;
+    void updateChildWeights();
     Color sourceRadiance(const Link& link) const;
     void gather(int node);
     void gatherTree(int node);
@@ -279,7 +287,9 @@ class RadiositySolver : public RadiositySolution {
     KernelSamples kernelSamples(int receiver, int source) const;
     Vec3 linearModel(int receiver, const KernelSamples& samples, float F, float& limiter) const;
     // Adds the shadow rays it casts to `rays`; `adaptive` may stop after a few that agree.
-    Color visibility(int receiver, int source, uint64_t& rays, bool adaptive) const;
+    // `samples` rays at most (0: visibility_samples).
+    Color visibility(int receiver, int source, uint64_t& rays, bool adaptive,
+                     int samples = 0) const;
     bool smallTransfer(int source, float Fmax) const;
 
     const Scene& scene_;
@@ -290,6 +300,9 @@ class RadiositySolver : public RadiositySolution {
     std::vector<Color> L_;  // radiance leaving, emission included
     std::vector<Color> H_;  // gathered through the node's links, at its centroid (cd/m²)
     std::vector<Mat3> G_;   // its gradient over the node: column k = d/dx_k of the channels
+    // What the node's own links add to H on each of its children beyond the even share, by the
+    // children's visibility of the sources (Link::u); sums to zero over the children.
+    std::vector<std::array<Color, 4>> Hchild_;
     std::vector<float> Lmin_, Lmax_;  // range of max(L) over the node's leaves
     std::vector<Color> D_;            // punctual direct irradiance / pi, averaged over the element
     std::vector<float> Dspread_;      // spread of max(D) over the element's sample points

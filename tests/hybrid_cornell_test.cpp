@@ -22,21 +22,26 @@ constexpr int kSize = 128;  // the stored reference's size
 
 // Faces seen through at least this many whole pixels (as tests/radiosity_cornell_test.cpp).
 constexpr int kMinPixels = 30;
-// The issue asks for 3 % on every region mean; the hybrid does not reach it yet, because it
-// inherits the radiosity solution's error wherever indirect light dominates. Measured when this
-// was written (seeds 1, 2, 7; the seed-to-seed spread of a face mean below 0.8 %): every face
-// within [-4.0 %, +3.2 %], the extremes on the short block's face lit by the red wall (red -3.5 %
-// on average) and the tall block's face lit by the green one (green +3.1 %), where the radiosity
-// view itself is off by -2.4 % and +3.2 % (tests/radiosity_cornell_test.cpp); with reuse disabled
-// the same path tracer gives the reference's answer. The distribution pipeline, which takes the
-// indirect light from the solution already at the visible surface, was within [-3.4 %, +3.1 %]
-// (seed 7), like the radiosity view: the solution's error is in its indirect part. This bound holds
-// the pipelines to what they reach so that a regression fails; it comes down to 0.03 with the
-// radiosity solver's accuracy (issue 3).
-constexpr double kTolerance = 0.045;
+// The issue asks for 3 % on every region mean. Measured (seeds 1, 2, 7), since the radiosity
+// solver weighs the children of partly occluded links by their own visibility: distribution within
+// [-2.6 %, +1.6 %] on every seed (the short block's front in red, the tall block's side in green:
+// the radiosity solution's indirect error, which it takes at the visible surface, as the radiosity
+// view: tests/radiosity_cornell_test.cpp), so it is held to the 3 %. The hybrid was within
+// [-3.5 %, +1.7 %] (seeds 1, 2) and [-4.3 %, +1.2 %] (seed 7), the worst again the short block's
+// dim front in red (a face mean of 0.06 cd/m², 64 spp: about 0.8 % of noise): it takes the
+// solution's whole reflected radiance at the second diffuse vertex, and the surfaces that face
+// sees (the floor along the block's foot, the red wall) carry the solution's error near contacts.
+// Taking only the indirect part there and the direct light by next-event estimation made it
+// worse (-5.0 %), so the deficit is in the solution's indirect light. Before the solver's fix
+// the two were within [-4.0 %, +3.2 %] and [-3.4 %, +3.1 %]. The hybrid's bound holds it to what
+// it reaches so that a regression fails; it is to come down to 0.03 with issue 3.
+struct Case {
+    std::string pipeline;
+    double tolerance;
+};
 constexpr int kSpp = 64;
 
-class ReusingPipelines : public testing::TestWithParam<std::string> {};
+class ReusingPipelines : public testing::TestWithParam<Case> {};
 
 TEST_P(ReusingPipelines, EveryWallAndBlockFaceAgreesWithTheReference) {
     const Scene scene(loadGltf(kSceneFolder + "/cornell-box.gltf"));
@@ -44,11 +49,12 @@ TEST_P(ReusingPipelines, EveryWallAndBlockFaceAgreesWithTheReference) {
     const Camera camera(cameraDesc, kSize, kSize);
     const std::vector<int> mask = regionMask(scene, camera, kSize, kSize);
 
-    TempDir dir("reusing-" + GetParam());
+    const Case& param = GetParam();
+    TempDir dir("reusing-" + param.pipeline);
     const std::string out = dir.file("image.exr");
     const CliResult result = runPenumbra(
         "render " + kSceneFolder + "/cornell-box.gltf -o " + out + " --quiet" + " --pipeline " +
-        GetParam() + " --width 128 --height 128 --seed 7 --spp " + std::to_string(kSpp));
+        param.pipeline + " --width 128 --height 128 --seed 7 --spp " + std::to_string(kSpp));
     ASSERT_EQ(result.status, 0) << result.output;
     const RegionMeans test = regionMeans(readImage(out), mask);
     const RegionMeans reference = regionMeans(readImage(kSceneFolder + "/reference.exr"), mask);
@@ -61,15 +67,20 @@ TEST_P(ReusingPipelines, EveryWallAndBlockFaceAgreesWithTheReference) {
         for (int c = 0; c < 3; ++c) {
             const double ratio = test.mean(mesh, c) / reference.mean(mesh, c);
             std::printf("%-16s channel %d  pixels %5d  %s %9.4f  reference %9.4f  ratio %.4f\n",
-                        scene.meshes()[mesh].name.c_str(), c, pixels, GetParam().c_str(),
+                        scene.meshes()[mesh].name.c_str(), c, pixels, param.pipeline.c_str(),
                         test.mean(mesh, c), reference.mean(mesh, c), ratio);
-            EXPECT_NEAR(ratio, 1.0, kTolerance) << scene.meshes()[mesh].name << " channel " << c;
+            EXPECT_NEAR(ratio, 1.0, param.tolerance)
+                << scene.meshes()[mesh].name << " channel " << c;
         }
     }
     EXPECT_GE(regions, 10);  // the five walls, the light, the visible faces of the blocks
 }
 
-INSTANTIATE_TEST_SUITE_P(CornellBox, ReusingPipelines, testing::Values("hybrid", "distribution"));
+INSTANTIATE_TEST_SUITE_P(CornellBox, ReusingPipelines,
+                         testing::Values(Case{"hybrid", 0.045}, Case{"distribution", 0.03}),
+                         [](const testing::TestParamInfo<Case>& info) {
+                             return info.param.pipeline;
+                         });
 
 }  // namespace
 }  // namespace penumbra::test

@@ -44,13 +44,19 @@ TEST(RadiosityCornellBox, EveryWallAndBlockFaceAgreesWithTheReference) {
     // error of such a mean is below 0.1 % (per-pixel relative deviation near 5 % at 16384 spp,
     // over 30 or more pixels), so the bound is on the radiosity's error alone.
     constexpr int kMinPixels = 30;
-    // The issue asks for 2 %; the solver does not reach it yet. Measured when this was written
-    // (default settings): every face and channel within [-3.2 %, +3.6 %], the largest errors on
-    // the block faces next to the floor and on the ceiling around the light, which hangs 0.1 mm
-    // below it: elements that straddle those contacts reflect as if lit over their whole area.
-    // This bound holds the solver to what it reaches, so that a regression fails; it is to come
-    // down to 0.02 with the fix.
-    constexpr double kTolerance = 0.04;
+    // The issue asks for 2 %; the solver does not reach it yet. Measured (default settings):
+    // first every face and channel within [-3.4 %, +3.1 %], most of them 1-2 % low; since
+    // partly occluded links weigh the children at either end by their own visible fractions
+    // (setSourceWeights, setReceiverWeights in radiosity_solver.cpp) within [-2.6 %, +1.7 %]:
+    // floor -1.1 %, ceiling -1.7 %, back wall -1.4 %, the worst the short block's front (red)
+    // and its small right face (green), both -2.6 %. What is left is still mostly low: the
+    // ceiling next to the light, which hangs 0.1 mm below it, is 10-15 % low over a few pixels
+    // (its straddling elements show the mean of their lit and covered parts), and the
+    // piecewise-constant leaves lose some of the correlation between what a leaf sees and how
+    // bright it is (a floor-and-ceiling variant: the dense solve over the leaves rises towards
+    // the path tracer as they shrink). This bound holds the solver to what it reaches, with
+    // 0.4 % of margin, so that a regression fails; it is to come down to 0.02.
+    constexpr double kTolerance = 0.03;
     int regions = 0;
     for (const auto& [mesh, pixels] : p.pixels) {
         if (pixels < kMinPixels)
