@@ -2,12 +2,13 @@
 
 #include "core/sampler.h"
 #include "core/sampling.h"
+#include "core/surface_crossing.h"
 #include "raytrace/path_tracer.h"
 
 namespace penumbra {
 
 Color sampleDirectLight(const Scene& scene, const SurfaceHit& hit, const Bsdf& bsdf, const Vec3& wo,
-                        Sampler& sampler, PathCounters& counters, DirectLightWeight weighting) {
+                        Sampler& sampler, PathCounters& counters) {
     const float uLight = sampler.get1D();
     const Vec2 uPoint = sampler.get2D();
     const auto choice = scene.lightSampler().sample(uLight);
@@ -29,10 +30,46 @@ Color sampleDirectLight(const Scene& scene, const SurfaceHit& hit, const Bsdf& b
         return Color(0.0f);
 
     const float lightPdf = choice->pmf * ls->pdf;
-    const float weight = light.isDelta() || weighting == DirectLightWeight::LightOnly
-                             ? 1.0f
-                             : powerHeuristic(lightPdf, bsdf.pdf(wo, ls->wi));
+    const float weight = light.isDelta() ? 1.0f : powerHeuristic(lightPdf, bsdf.pdf(wo, ls->wi));
     return f * ls->L * Tr * (weight / lightPdf);
+}
+
+Color estimateDirectLight(const Scene& scene, const SurfaceHit& hit, const Bsdf& bsdf,
+                          const Vec3& wo, Sampler& sampler, PathCounters& counters) {
+    const Color fromLight = sampleDirectLight(scene, hit, bsdf, wo, sampler, counters);
+    const float uLobe = sampler.get1D();
+    const Vec2 uDirection = sampler.get2D();
+    const std::optional<BsdfSample> bs = bsdf.sample(wo, uLobe, uDirection);
+    // A delta lobe is the caller's to follow (the specular chain).
+    if (!bs || bs->isDelta() || !(bs->pdf > 0.0f))
+        return fromLight;
+    Color beta = bs->f * (std::abs(glm::dot(bs->wi, bsdf.shadingNormal())) / bs->pdf);
+    const LightSampleContext ctx{hit.p, hit.pError, hit.ng};
+    Ray ray = Scene::spawnRay(hit, bs->wi);
+    // Straight-through transparency passes the ray on, as for the light sample's shadow ray.
+    while (maxComponent(beta) > 0.0f) {
+        ++counters.rays;
+        const std::optional<SurfaceHit> next = scene.intersect(ray);
+        if (!next)
+            break;
+        beta *= volumeAttenuation(scene, *next, ray.d);
+        const Bsdf nextBsdf = scene.bsdf(*next);
+        const StraightThrough straight =
+            chooseStraightThrough(scene, *next, nextBsdf, -ray.d, sampler);
+        beta *= straight.weight;
+        if (straight.passes) {
+            ray = Scene::spawnRay(*next, ray.d);
+            continue;
+        }
+        const int lightIndex = scene.lightIndex(*next);
+        const Color Le = scene.emitted(*next, -ray.d);
+        if (lightIndex < 0 || maxComponent(Le) <= 0.0f)
+            break;
+        const float lightPdf = scene.lightSampler().pmf(lightIndex) *
+                               scene.lights()[lightIndex]->pdfLi(ctx, bs->wi, *next);
+        return fromLight + beta * Le * powerHeuristic(bs->pdf, lightPdf);
+    }
+    return fromLight;
 }
 
 }  // namespace penumbra

@@ -10,15 +10,19 @@ namespace penumbra {
 class Sampler;
 struct PathCounters;
 
-// Whether the light sample is weighted against BSDF sampling of the same light (a tracer that
-// also counts emission its BSDF samples reach) or stands alone (one that never does).
-enum class DirectLightWeight { PowerHeuristic, LightOnly };
-
 // Reflected radiance towards wo from one light chosen by power and one point on it, with a
-// shadow ray (thin glass and alpha cut-outs transmit). With PowerHeuristic the sample carries the
-// power heuristic weight against bsdf.pdf() (Veach 1997, Eq. 9.13); a delta light's weight is 1
-// either way, as BSDF sampling cannot reach it.
+// shadow ray (thin glass and alpha cut-outs transmit), weighted by the power heuristic against
+// bsdf.pdf() (Veach 1997, Eq. 9.13) for a tracer that also counts the emission its BSDF samples
+// reach; a delta light's weight is 1, as BSDF sampling cannot reach it.
 Color sampleDirectLight(const Scene& scene, const SurfaceHit& hit, const Bsdf& bsdf, const Vec3& wo,
-                        Sampler& sampler, PathCounters& counters, DirectLightWeight weighting);
+                        Sampler& sampler, PathCounters& counters);
+
+// The whole direct light reflected towards wo by the non-delta lobes, for a tracer that traces
+// no further bounce from this vertex (distribution ray tracing): the light sample above and one
+// BSDF sample followed (through thin glass) to the emitter it reaches, each weighted by the power
+// heuristic against the other (Veach 1997, section 9.2, Eq. 9.13). The BSDF sample bounds what
+// light sampling alone makes unbounded: an area light's 1 / r² next to the surface it lights.
+Color estimateDirectLight(const Scene& scene, const SurfaceHit& hit, const Bsdf& bsdf,
+                          const Vec3& wo, Sampler& sampler, PathCounters& counters);
 
 }  // namespace penumbra

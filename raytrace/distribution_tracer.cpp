@@ -22,10 +22,9 @@ PathRadiance DistributionTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHi
         scene_, ray, sampler, firstHit, counters, chain,
         [this](const SurfaceHit& hit, const Bsdf& bsdf, const Vec3& wo, Sampler& vertexSampler,
                PathCounters& vertexCounters) {
-            // No BSDF sample of a non-delta lobe is traced, so the light sample stands alone.
             PathRadiance L;
-            L[PathComponent::Direct] = sampleDirectLight(
-                scene_, hit, bsdf, wo, vertexSampler, vertexCounters, DirectLightWeight::LightOnly);
+            L[PathComponent::Direct] =
+                estimateDirectLight(scene_, hit, bsdf, wo, vertexSampler, vertexCounters);
             if (indirect_) {
                 L[PathComponent::Indirect] += indirect_->indirectRadiance(
                     hit.mesh, hit.triangle, hit.barycentric, glm::dot(wo, hit.ng) > 0.0f);

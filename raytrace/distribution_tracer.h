@@ -4,8 +4,10 @@
 // From the eye, a ray is followed through specular vertices (mirror reflection and refraction,
 // one lobe chosen per sample, up to maxSpecularDepth of them; thin glass is passed straight
 // through). At the first vertex with a non-delta lobe (diffuse or rough glossy) it takes
-// - the direct light of every light type by next-event estimation, area lights sampled over
-//   their area so that shadows are soft over the samples of a pixel, glossy highlights included;
+// - the direct light of every light type, area lights sampled over their area so that shadows
+//   are soft over the samples of a pixel, glossy highlights included, with one BSDF sample
+//   towards the emitters weighted against it by MIS (estimateDirectLight: light sampling alone
+//   put 1000 cd/m² fireflies on walls next to the modern hall's lamps);
 // - the indirect-only radiosity solution there as the ambient term: the light of the Lambertian
 //   layer reflected from every diffuse bounce but the first (L D D+), the direct part being the
 //   line above;

@@ -109,8 +109,7 @@ PathRadiance PathTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHit,
         if (reuseHere && settings_.causticsAtReuse && causticMap_)
             L[reflectedHere] += beta * causticMap_->radiance(*hit, bsdf, wo);
         if (bsdf.hasNonDeltaLobe() && !reuseHere)
-            L[reflectedHere] += beta * sampleDirectLight(scene_, *hit, bsdf, wo, sampler, counters,
-                                                         DirectLightWeight::PowerHeuristic);
+            L[reflectedHere] += beta * sampleDirectLight(scene_, *hit, bsdf, wo, sampler, counters);
 
         const float uLobe = sampler.get1D();
         const Vec2 uDirection = sampler.get2D();

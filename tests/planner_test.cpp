@@ -227,10 +227,10 @@ TEST(Planner, WhittedAmbientFromTheRadiositySolutionIsExactInAFurnace) {
         sum += value;
     const double mean = sum / static_cast<double>(beauty.pixels().size());
     std::printf("image mean %.5f, closed form %.5f\n", mean, kLe / (1.0f - kRho));
-    // The radiosity solution is within 1 % of the closed form in this box (radiosity_test). The
-    // light samples are noisy here (every wall is a light, the nearest ones sampled by area): at
-    // 8 x 8 pixels and 64 spp seeds 1 to 3 gave -1.0 %, +1.7 %, +0.4 %; at 16 x 16 and 256 spp,
-    // -0.05 %, +0.2 %, +0.3 %, a standard error near 0.2 %.
+    // Measured when this was written (seeds 0 to 3): +0.66 % on every seed, all of it the
+    // radiosity solution's: its mean reflected radiance here is 1.026 for the closed form's 1
+    // (+2.6 %; the ambient term is half the image). The direct light, light and BSDF samples
+    // weighted by MIS, adds under 0.01 % of noise. The bound is the solution's error plus margin.
     EXPECT_NEAR(mean, kLe / (1.0f - kRho), 0.015 * kLe / (1.0f - kRho));
 }
 
