@@ -1,6 +1,7 @@
 #include "passes/distribution_pass.h"
 
 #include "core/stats.h"
+#include "radiosity/radiosity_mesh.h"
 #include "radiosity/radiosity_solution.h"
 
 #include <array>
@@ -16,8 +17,7 @@ Color meanReflectedRadiance(const Scene& scene, const RadiositySolution& solutio
     for (uint32_t m = 0; m < meshes.size(); ++m) {
         const Mesh& mesh = meshes[m];
         const Material& material = scene.materials()[mesh.material];
-        // The radiosity mesh leaves transmissive surfaces to the ray tracer (radiosity_mesh.h).
-        if (material.transmission > 0.0f)
+        if (!holdsMaterial(material))
             continue;
         for (uint32_t t = 0; t < mesh.triangles.size(); ++t) {
             const glm::uvec3& v = mesh.triangles[t];

@@ -204,7 +204,7 @@ RadiosityMesh::RadiosityMesh(const Scene& scene, const MeshingSettings& settings
         const Mesh& mesh = meshes[mi];
         const Material& material = scene.materials()[mesh.material];
         triangles_[mi].resize(mesh.triangles.size());
-        if (material.transmission > 0.0f)
+        if (!holdsMaterial(material))
             continue;
         Impl::MaterialValues& values = impl_->materials[mesh.material];
         values.rhoVaries = rhoVaries(material);

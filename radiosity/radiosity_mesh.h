@@ -24,6 +24,7 @@
 // neighbour's midpoints on its edges (T-vertices, leafBoundary()).
 #pragma once
 
+#include "core/material.h"
 #include "core/math.h"
 
 #include <array>
@@ -64,12 +65,18 @@ struct ElementPoint {
     Vec3 weights{0.0f};
 };
 
+// Whether the radiosity mesh holds the surfaces of this material: the opaque ones, in the sense
+// of having no transmission (transmission factor 0; alpha cut-outs are meshed as if opaque).
+// Transmissive surfaces are left to the ray tracer.
+inline bool holdsMaterial(const Material& material) {
+    return !(material.transmission > 0.0f);
+}
+
 class RadiosityMesh {
   public:
     static constexpr int kChildren = 4;
 
-    // Meshes every triangle of every scene mesh whose material is opaque, in the sense of having
-    // no transmission (transmission factor 0; alpha cut-outs are meshed as if opaque). Each
+    // Meshes every triangle of every scene mesh whose material it holds (holdsMaterial). Each
     // triangle is split uniformly into n^2 patches, n = 2^k the smallest power of two with
     // (longest edge) / n <= patchEdgeLength. A power of two, not ceil(longest edge / length): with
     // it the patch grids of two triangles sharing an edge nest (the coarser one's patch vertices

@@ -34,6 +34,16 @@ Color sampleDirectLight(const Scene& scene, const SurfaceHit& hit, const Bsdf& b
     return f * ls->L * Tr * (weight / lightPdf);
 }
 
+float emissionMisWeight(const Scene& scene, const LightSampleContext& ctx, const Vec3& wi,
+                        const SurfaceHit& lightHit, float bsdfPdf) {
+    const int lightIndex = scene.lightIndex(lightHit);
+    if (lightIndex < 0)
+        return 1.0f;
+    const float lightPdf =
+        scene.lightSampler().pmf(lightIndex) * scene.lights()[lightIndex]->pdfLi(ctx, wi, lightHit);
+    return powerHeuristic(bsdfPdf, lightPdf);
+}
+
 Color estimateDirectLight(const Scene& scene, const SurfaceHit& hit, const Bsdf& bsdf,
                           const Vec3& wo, Sampler& sampler, PathCounters& counters) {
     const Color fromLight = sampleDirectLight(scene, hit, bsdf, wo, sampler, counters);
@@ -61,13 +71,10 @@ Color estimateDirectLight(const Scene& scene, const SurfaceHit& hit, const Bsdf&
             ray = Scene::spawnRay(*next, ray.d);
             continue;
         }
-        const int lightIndex = scene.lightIndex(*next);
         const Color Le = scene.emitted(*next, -ray.d);
-        if (lightIndex < 0 || maxComponent(Le) <= 0.0f)
+        if (scene.lightIndex(*next) < 0 || maxComponent(Le) <= 0.0f)
             break;
-        const float lightPdf = scene.lightSampler().pmf(lightIndex) *
-                               scene.lights()[lightIndex]->pdfLi(ctx, bs->wi, *next);
-        return fromLight + beta * Le * powerHeuristic(bs->pdf, lightPdf);
+        return fromLight + beta * Le * emissionMisWeight(scene, ctx, bs->wi, *next, bs->pdf);
     }
     return fromLight;
 }

@@ -17,6 +17,12 @@ struct PathCounters;
 Color sampleDirectLight(const Scene& scene, const SurfaceHit& hit, const Bsdf& bsdf, const Vec3& wo,
                         Sampler& sampler, PathCounters& counters);
 
+// The power heuristic weight (Veach 1997, Eq. 9.13) of emission that a BSDF sample of density
+// bsdfPdf, leaving the point of ctx in direction wi, reached on lightHit, against the light
+// sampling of sampleDirectLight from the same point; 1 where that is not a light of the scene.
+float emissionMisWeight(const Scene& scene, const LightSampleContext& ctx, const Vec3& wi,
+                        const SurfaceHit& lightHit, float bsdfPdf);
+
 // The whole direct light reflected towards wo by the non-delta lobes, for a tracer that traces
 // no further bounce from this vertex (distribution ray tracing): the light sample above and one
 // BSDF sample followed (through thin glass) to the emitter it reaches, each weighted by the power

@@ -70,14 +70,8 @@ PathRadiance PathTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHit,
         const Color Le = scene_.emitted(*hit, wo);
         const bool causticPath = diffuseVertices == 1 && specularAfterDiffuse;
         if (maxComponent(Le) > 0.0f && !(causticPath && settings_.excludeCaustics)) {
-            float weight = 1.0f;
-            const int lightIndex = scene_.lightIndex(*hit);
-            if (!lastDelta && lightIndex >= 0) {
-                const Light& light = *scene_.lights()[lightIndex];
-                const float lightPdf =
-                    scene_.lightSampler().pmf(lightIndex) * light.pdfLi(lastCtx, ray.d, *hit);
-                weight = powerHeuristic(lastBsdfPdf, lightPdf);
-            }
+            const float weight =
+                lastDelta ? 1.0f : emissionMisWeight(scene_, lastCtx, ray.d, *hit, lastBsdfPdf);
             L[pathComponent(depth, firstVertexSpecular)] += beta * Le * weight;
         }
 
