@@ -435,12 +435,20 @@ Color Bsdf::straightTransmittance(const Vec3& wo) const {
     return (1.0f - params_.metallic) * params_.transmission * params_.baseColor * left;
 }
 
-Color Bsdf::diffuseReflectance() const {
-    if (!hasDiffuse_)
-        return Color(0.0f);
+Color Bsdf::diffuseGlossyReflectance() const {
+    const float m = params_.metallic;
     // Average over cosine-weighted wo of the matte albedo baseColor (1 - E(wo)): 1 - E_avg.
-    return (1.0f - params_.metallic) * (1.0f - params_.transmission) * params_.baseColor *
-           glm::max(Color(1.0f) - albedoAvg_, 0.0f);
+    Color rho = hasDiffuse_ ? (1.0f - m) * (1.0f - params_.transmission) * params_.baseColor *
+                                  glm::max(Color(1.0f) - albedoAvg_, 0.0f)
+                            : Color(0.0f);
+    if (smooth_)
+        return rho;  // the reflection lobes are deltas
+    // The dielectric reflection has the same GGX lobe in the opaque and the glass terms; the
+    // metal's Fresnel is Schlick with F0 = baseColor.
+    rho += (1.0f - m) * albedoAvg_;
+    if (m > 0.0f)
+        rho += m * ggxSchlickAlbedoAverage(params_.roughness)(params_.baseColor);
+    return rho;
 }
 
 }  // namespace penumbra

@@ -68,11 +68,15 @@ class Bsdf {
     // Unit shading normal (after normal mapping), on the front side of the geometric normal.
     const Vec3& shadingNormal() const { return shading_.n; }
 
-    // Albedo of the Lambertian layer alone (what a radiosity solver treats as rho): its
-    // hemispherical-hemispherical reflectance, i.e. the fraction of uniform (diffuse) incident
-    // light that the diffuse lobe reflects, (1 - metallic) (1 - transmission) baseColor
-    // (1 - E_avg), E_avg being the average albedo of the specular layer above it.
-    Color diffuseReflectance() const;
+    // Hemispherical-hemispherical reflectance of the lobes that make this point a D vertex
+    // (Heckbert's notation: diffuse or rough glossy): the fraction of uniform (diffuse) incident
+    // light that the Lambertian layer and the non-delta GGX reflection send back, what a
+    // radiosity solver treats as rho. The Lambertian layer gives (1 - metallic) (1 -
+    // transmission) baseColor (1 - E_avg), E_avg being the average albedo of the dielectric
+    // specular layer above it; when that layer is rough it adds (1 - metallic) E_avg, and a rough
+    // metal adds metallic E_avg(Schlick(baseColor)). Delta (S) lobes and transmission are left
+    // out: they are the ray tracer's.
+    Color diffuseGlossyReflectance() const;
 
   private:
     // One wo in the local frame, with the quantities every query about it needs.

@@ -351,7 +351,7 @@ void RadiosityMesh::syncPositions() {
 void RadiosityMesh::setMaterial(Element& e) {
     Impl::MaterialValues& values = impl_->materials[scene_->meshes()[e.mesh].material];
     const auto rhoAt = [&](const Vec3& b) {
-        return scene_->bsdf(scene_->surfaceAt(e.mesh, e.triangle, b)).diffuseReflectance();
+        return scene_->bsdf(scene_->surfaceAt(e.mesh, e.triangle, b)).diffuseGlossyReflectance();
     };
     const auto LeAt = [&](const Vec3& b) {
         return scene_->emitted(scene_->surfaceAt(e.mesh, e.triangle, b), e.normal);

@@ -166,8 +166,8 @@ class RadiosityMesh {
 
     // --- Material ----------------------------------------------------------------------------
 
-    // Diffuse reflectance: Bsdf::diffuseReflectance() of Scene::bsdf() at the centroid; for a
-    // material whose diffuse reflectance varies over the surface (a base colour, metallic-
+    // Reflectance: Bsdf::diffuseGlossyReflectance() of Scene::bsdf() at the centroid; for a
+    // material whose reflectance varies over the surface (a base colour, metallic-
     // roughness, specular or specular colour texture), the mean over four points: the centroid
     // and the midpoints between it and each corner.
     const Color& rho(int element) const { return at(element).rho; }

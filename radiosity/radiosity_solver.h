@@ -4,9 +4,12 @@
 // What the solution contains: for every element and each of its two sides, the radiance leaving
 // it (cd/m² per linear-sRGB channel) = its own emission Le + the diffusely reflected light of all
 // bounces, i.e. the paths L D* E ending on the element, with the direct light of the emissive
-// elements and of the punctual lights (point, spot, directional) included. Only the Lambertian
-// layer of each material takes part (rho = Bsdf::diffuseReflectance()); what the specular and
-// transmissive layers carry is left to the ray-tracing passes. The solution also splits the
+// elements and of the punctual lights (point, spot, directional) included. D vertices are the
+// diffuse and the rough glossy ones (Heckbert's notation, docs/light-paths.md), so each material
+// takes part with all its non-delta reflection, approximated as Lambertian with the same
+// hemispherical reflectance (rho = Bsdf::diffuseGlossyReflectance()): the energy is right, the
+// directional distribution of rough glossy reflection is not. Delta (S) reflection and
+// transmission are left to the ray-tracing passes. The solution also splits the
 // reflected light into the first reflection of the sources (paths L D E: Le of the emissive
 // elements and the punctual lights, reflected once) and the rest (L D D+ E), for the two-pass
 // pipelines that trace the first themselves (indirectRadiance). Surfaces the mesh does not hold

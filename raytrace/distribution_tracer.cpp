@@ -30,7 +30,7 @@ PathRadiance DistributionTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHi
                     hit.mesh, hit.triangle, hit.barycentric, glm::dot(wo, hit.ng) > 0.0f);
             }
             if (maxComponent(settings_.ambient) > 0.0f)
-                L[PathComponent::Indirect] += bsdf.diffuseReflectance() * settings_.ambient;
+                L[PathComponent::Indirect] += bsdf.diffuseGlossyReflectance() * settings_.ambient;
             return L;
         });
 }
