@@ -1,6 +1,7 @@
 #include "passes/path_pass.h"
 
 #include "caustics/caustic_map.h"
+#include "passes/planner.h"
 #include "radiosity/radiosity_solution.h"
 
 namespace penumbra {
@@ -32,8 +33,12 @@ PassStats PathPass::parameters() const {
 RadianceEstimator PathPass::makeEstimator(PassContext& context) {
     radiosity_ = context.product<RadiositySolution>("radiosity");
     causticMap_ = context.product<CausticMap>("caustic map");
+    PathTracerSettings settings = settings_;
+    // The ray from a reuse vertex to the specular surfaces it sees would find none (the
+    // planner's analysis, which also skips the caustic pass then).
+    settings.specularAtReuse = analyseScene(context.scene).specular;
     tracer_ =
-        std::make_unique<PathTracer>(context.scene, settings_, radiosity_.get(), causticMap_.get());
+        std::make_unique<PathTracer>(context.scene, settings, radiosity_.get(), causticMap_.get());
     return [tracer = tracer_.get()](const Ray& ray, Sampler& sampler, FirstHit* firstHit,
                                     PathCounters& counters) {
         return tracer->Li(ray, sampler, firstHit, counters);

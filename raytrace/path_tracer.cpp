@@ -25,14 +25,17 @@ constexpr int kRouletteStartDepth = 3;
 
 std::string pathTracerLightPaths(const PathTracerSettings& settings) {
     // Without reuse: every path, less the caustic ones (paths with no D: L S* E; one D with no S
-    // before it: L D S* E; two or more D: L (D|S)* D S* D S* E). With reuse: the radiosity
-    // solution's L D+ at the second diffuse vertex seen through specular chains, plus what the
-    // first diffuse vertex's next-event estimation and BSDF samples find.
+    // before it: L D S* E; two or more D: L (D|S)* D S* D S* E). With reuse: what the first
+    // diffuse vertex's next-event estimation and BSDF samples find, and at the second diffuse
+    // vertex, seen through specular chains, the light arriving there: the radiosity solution's
+    // L D+, the light of specular chains from the lights (L S+ D: the caustic map's, or found by
+    // tracing), and the same again at the diffuse vertex behind each specular chain the reuse
+    // vertex sees ((S+ D)*). With no specular surface in the scene the last two are empty.
     if (!settings.reuseRadiosity)
         return settings.excludeCaustics ? "L S* E | L D S* E | L (D|S)* D S* D S* E" : "L(D|S)*E";
-    const std::string secondVertex = settings.causticsAtReuse ? "(L D+ | L S+ D)" : "L D+";
-    return (settings.excludeCaustics ? "L S* E | L D S* E | " : "L S* E | L S* D S* E | ") +
-           secondVertex + " S* D S* E";
+    return std::string(settings.excludeCaustics ? "L S* E | L D S* E | "
+                                                : "L S* E | L S* D S* E | ") +
+           "(L D+ | L S+ D) (S+ D)* S* D S* E";
 }
 
 PathTracer::PathTracer(const Scene& scene, const PathTracerSettings& settings,
@@ -56,6 +59,11 @@ PathRadiance PathTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHit,
     int diffuseVertices = 0;
     bool specularAfterDiffuse = false;
     bool firstVertexSpecular = false;  // the lobe the first vertex was left through was a delta
+    // The last vertex took the radiosity solution and was left through a non-delta lobe: the
+    // solution holds everything that arrives there from diffuse surfaces and lights, so the path
+    // only goes on through the delta lobes of the surface it meets (what the reuse vertex sees
+    // through specular surfaces, which the solution does not hold).
+    bool leftReuseVertex = false;
 
     while (true) {
         ++counters.rays;
@@ -69,7 +77,12 @@ PathRadiance PathTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHit,
         // estimation at the previous vertex (Veach 1997, Eq. 9.13).
         const Color Le = scene_.emitted(*hit, wo);
         const bool causticPath = diffuseVertices == 1 && specularAfterDiffuse;
-        if (maxComponent(Le) > 0.0f && !(causticPath && settings_.excludeCaustics)) {
+        // Light reaching a reuse vertex (every diffuse vertex after the first) through specular
+        // vertices is the caustic map's, when the reuse vertex took it.
+        const bool causticAtReuse = diffuseVertices >= 2 && specularAfterDiffuse &&
+                                    settings_.causticsAtReuse && causticMap_;
+        if (maxComponent(Le) > 0.0f && !leftReuseVertex &&
+            !(causticPath && settings_.excludeCaustics) && !causticAtReuse) {
             const float weight =
                 lastDelta ? 1.0f : emissionMisWeight(scene_, lastCtx, ray.d, *hit, lastBsdfPdf);
             L[pathComponent(depth, firstVertexSpecular)] += beta * Le * weight;
@@ -91,8 +104,8 @@ PathRadiance PathTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHit,
 
         // A second diffuse vertex under radiosity reuse: the solution's reflected light on the
         // side wo sees stands for everything a diffuse bounce here would gather.
-        const bool reuseHere =
-            settings_.reuseRadiosity && diffuseVertices >= 1 && bsdf.hasNonDeltaLobe();
+        const bool reuseHere = settings_.reuseRadiosity && !leftReuseVertex &&
+                               diffuseVertices >= 1 && bsdf.hasNonDeltaLobe();
         // Light reflected here reaches the eye over this vertex and the ones before it.
         const PathComponent reflectedHere = pathComponent(depth + 1, firstVertexSpecular);
         if (reuseHere && radiosity_) {
@@ -102,7 +115,7 @@ PathRadiance PathTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHit,
         }
         if (reuseHere && settings_.causticsAtReuse && causticMap_)
             L[reflectedHere] += beta * causticMap_->radiance(*hit, bsdf, wo);
-        if (bsdf.hasNonDeltaLobe() && !reuseHere)
+        if (bsdf.hasNonDeltaLobe() && !reuseHere && !leftReuseVertex)
             L[reflectedHere] += beta * sampleDirectLight(scene_, *hit, bsdf, wo, sampler, counters);
 
         const float uLobe = sampler.get1D();
@@ -110,8 +123,11 @@ PathRadiance PathTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHit,
         const std::optional<BsdfSample> bs = bsdf.sample(wo, uLobe, uDirection);
         if (!bs || !(bs->pdf > 0.0f))
             break;
-        if (reuseHere && !bs->isDelta())
-            break;  // the radiosity term above holds this bounce
+        if (leftReuseVertex && !bs->isDelta())
+            break;  // the solution at the reuse vertex holds this light
+        if (reuseHere && !bs->isDelta() && !settings_.specularAtReuse)
+            break;  // the radiosity term above holds this bounce, and no surface is specular
+        leftReuseVertex = reuseHere && !bs->isDelta();
         if (depth == 0)
             firstVertexSpecular = bs->isDelta();
         if (bs->isDelta()) {

@@ -8,11 +8,16 @@
 // The hybrid pipeline (the seed's three-pass method) narrows it in two ways, each a setting:
 // - reuse of a radiosity solution: a path that reaches a second diffuse vertex (after the first
 //   one and any specular ones between) takes the solution's reflected radiance there (light paths
-//   L D+ ending there, emission excluded: that is counted by the emission step and MIS) and
-//   traces on only through that vertex's specular lobes; next-event estimation happens at the
-//   first diffuse vertex only. With a caustic photon map as well, that vertex also takes the
-//   map's estimate, the light that reached it through specular vertices (L S+ D): indirect
-//   caustics, which the radiosity solution does not hold, are then counted one bounce deep.
+//   L D+ ending there, emission excluded: that is counted by the emission step and MIS);
+//   next-event estimation happens at the first diffuse vertex only. The solution holds what
+//   arrives from diffuse surfaces and lights, not through specular ones (it treats a mirror as
+//   black, solid glass as opaque), so the path goes on: through the vertex's delta lobes as
+//   usual, and through its non-delta ones only as far as the next surface's delta lobes; behind
+//   that specular chain, the next diffuse vertex is a reuse vertex again, and a light found at
+//   the chain's end lights the reuse vertex through it (a caustic there, L S+ D). With a caustic
+//   photon map as well, each reuse vertex takes the map's estimate of those caustics instead of
+//   the light found by chance: indirect caustics (L S+ D D+ ...), which the radiosity solution
+//   does not hold, are then counted one bounce deep.
 // - caustic exclusion: emission reached from the first diffuse vertex through one or more
 //   specular vertices (L S+ D S* E, the caustic pass's share) is dropped.
 // A vertex is diffuse or specular by the lobe it is left through (a plastic's diffuse base and
@@ -42,6 +47,9 @@ struct PathTracerSettings {
     bool reuseRadiosity = false;   // take a radiosity solution at the second diffuse vertex
     bool excludeCaustics = false;  // drop L S+ D S* E
     bool causticsAtReuse = false;  // with reuseRadiosity: add a caustic map at the second vertex
+    // With reuseRadiosity: trace on from a reuse vertex to the specular surfaces it sees. Off
+    // only for a scene with no delta lobe, where that ray would find none.
+    bool specularAtReuse = true;
 };
 
 // The light paths, in Heckbert's notation (core/light_paths.h), that a path tracer with these

@@ -76,14 +76,15 @@ TEST(LightPaths, OverlapIsNamedByAShortestCommonPath) {
 
 TEST(LightPaths, HybridPartitionLeavesOnlyIndirectCaustics) {
     // The hybrid pipeline (docs/light-paths.md): the path tracer counts emission seen through
-    // specular chains, direct light at the first diffuse vertex and, at a second diffuse vertex,
-    // the radiosity solution's L D+; the caustic pass counts L S+ D S* E.
-    const PathSet path = PathSet::parse("L S* E | L D S* E | L D+ S* D S* E");
+    // specular chains, direct light at the first diffuse vertex and, at each later diffuse
+    // vertex, the radiosity solution's L D+ and the light arriving through specular chains
+    // (L S+ D, and the same again behind them); the caustic pass counts L S+ D S* E.
+    const PathSet path = PathSet::parse("L S* E | L D S* E | (L D+ | L S+ D) (S+ D)* S* D S* E");
     const PathSet caustics = PathSet::parse("L S+ D S* E");
     const PathSet all = PathSet::parse("L(D|S)*E");
     EXPECT_TRUE((path & caustics).empty());
     const PathSet missing = all - (path | caustics);
-    EXPECT_EQ(missing.shortestPaths(2), (std::vector<std::string>{"L S D D E", "L D S D D E"}));
+    EXPECT_EQ(missing.shortestPaths(2), (std::vector<std::string>{"L S D D D E", "L D S D D D E"}));
 }
 
 TEST(LightPaths, MalformedExpressionsNameThePosition) {
