@@ -56,6 +56,7 @@ struct BenchOptions {
     std::vector<std::string> pipelines, budgets, sppList;
     std::string reference, output;
     int repeat = 1;
+    bool keepImages = false;
     RenderSettings settings;
 };
 
@@ -399,6 +400,26 @@ std::string describeBudget(const Budget& budget) {
     return formatNumber(budget.value) + (budget.spp ? " spp" : " s");
 }
 
+// Writes a run's beauty as EXR with the metadata `penumbra render` gives it.
+void writeRendered(const Rendered& rendered, const BenchSetup& setup, uint32_t seed,
+                   const std::string& scenePath, const std::string& cameraName,
+                   const fs::path& path) {
+    RenderSettings settings = setup.settings;
+    settings.seed = seed;
+    ImageMetadata metadata =
+        renderMetadata(rendered.pipeline, settings, rendered.run.seconds, scenePath, cameraName);
+    metadata.set("penumbra:max_depth", settings.maxDepth);
+    writeImage(path.string(), rendered.run.layers.at("beauty"), {}, metadata, ToneMapping{});
+}
+
+// Where --keep-images puts a run's image: DIR/images/PIPELINE-BUDGET-rREPEAT.exr, e.g.
+// hybrid-16s-r0.exr.
+fs::path runImagePath(const fs::path& directory, const RunResult& r) {
+    return directory / "images" /
+           (r.pipeline + "-" + formatNumber(r.budget.value) + r.budget.unit() + "-r" +
+            std::to_string(r.repeat) + ".exr");
+}
+
 // Renders the reference with the `reference` pipeline at kReferenceFactor times the largest
 // budget and writes it to DIR/reference.exr. Nothing when Ctrl-C stopped it.
 std::optional<Image> renderReference(const BenchSetup& setup, const BenchOptions& options,
@@ -417,13 +438,8 @@ std::optional<Image> renderReference(const BenchSetup& setup, const BenchOptions
     Rendered rendered = renderOnce(setup, "reference", budget, seed);
     if (rendered.run.stopped)
         return std::nullopt;
-    RenderSettings settings = setup.settings;
-    settings.seed = seed;
-    ImageMetadata metadata = renderMetadata(rendered.pipeline, settings, rendered.run.seconds,
-                                            options.scene.path, cameraName);
-    metadata.set("penumbra:max_depth", settings.maxDepth);
+    writeRendered(rendered, setup, seed, options.scene.path, cameraName, path);
     Image& image = rendered.run.layers.at("beauty");
-    writeImage(path.string(), image, {}, metadata, ToneMapping{});
     if (!options.scene.quiet) {
         std::cerr << "penumbra bench: reference: " << passStat(rendered.pipeline, "spp")
                   << " spp in " << formatNumber(rendered.run.seconds) << " s\n";
@@ -431,8 +447,9 @@ std::optional<Image> renderReference(const BenchSetup& setup, const BenchOptions
     return std::move(image);
 }
 
-// The output folder, created if need be; refused when it cannot hold the results.
-fs::path prepareOutput(const std::string& output) {
+// The output folder (and its images/ folder for --keep-images), created if need be; refused
+// when it cannot hold the results.
+fs::path prepareOutput(const std::string& output, bool keepImages) {
     const fs::path directory(output);
     std::error_code error;
     if (fs::exists(directory, error) && !fs::is_directory(directory, error))
@@ -442,6 +459,14 @@ fs::path prepareOutput(const std::string& output) {
         throw UsageError("-o " + output + ": cannot create the folder: " + error.message());
     // Refuses a folder that cannot be written to, before any time is spent.
     checkOutputPath((directory / "reference.exr").string());
+    if (keepImages) {
+        fs::create_directories(directory / "images", error);
+        if (error) {
+            throw UsageError("-o " + output +
+                             ": cannot create the folder images in it: " + error.message());
+        }
+        checkOutputPath((directory / "images" / "run.exr").string());
+    }
     return directory;
 }
 
@@ -489,7 +514,7 @@ int bench(BenchOptions& options) {
                 std::cerr << "penumbra bench: " << name << ": warning: " << warning << "\n";
         }
     }
-    const fs::path directory = prepareOutput(options.output);
+    const fs::path directory = prepareOutput(options.output, options.keepImages);
 
     const InterruptHandler interruptHandler;
     const int threads = s.threads > 0 ? s.threads : tbb::info::default_concurrency();
@@ -542,6 +567,10 @@ int bench(BenchOptions& options) {
                     compare(rendered.run.layers.at("beauty"), *reference, referenceName);
                 r.metrics = report.rows[size_t(report.rowIndex("luminance"))];
                 r.nonFinite = report.testNonFinite;
+                if (options.keepImages) {
+                    writeRendered(rendered, setup, r.seed, options.scene.path, cameraDesc.name,
+                                  runImagePath(directory, r));
+                }
                 csv << csvRow(r) << std::endl;  // flushed: a stopped benchmark keeps the row
                 results.push_back(r);
                 if (!quiet) {
@@ -612,6 +641,9 @@ StatusCommand addBenchCommand(CLI::App& app) {
                      "Runs per pipeline and budget, with seeds S, S+1, ...")
         ->check(atLeast(1))
         ->capture_default_str();
+    command->add_flag("--keep-images", options->keepImages,
+                      "Also write every run's image to images/PIPELINE-BUDGET-rREPEAT.exr in the "
+                      "folder");
     command
         ->add_option("--width", s.width,
                      "Image width (default: the reference's, else from --height and the camera)")

@@ -1,8 +1,10 @@
 // `penumbra bench` through the real binary: the CSV files (header, one row per run, the summary of
 // the repeats), the reference it renders when none is given, the error falling as 1/spp, time
-// budgets that end every pipeline, Ctrl-C keeping the finished runs, the plot, and bad options
+// budgets that end every pipeline, Ctrl-C keeping the finished runs, the plot, the images kept
+// with --keep-images, and bad options
 // refused with exit status 2 and nothing written.
 #include "core/image_io.h"
+#include "core/image_metrics.h"
 #include "tests/cli_runner.h"
 #include "tests/gltf_builder.h"
 #include "tests/radiosity_scenes.h"
@@ -192,6 +194,34 @@ TEST_F(BenchCli, WritesOneRowPerRunAndTheSummaryOfTheRepeats) {
     }
     for (const auto& entry : fs::directory_iterator(out))
         EXPECT_FALSE(contains(entry.path().filename().string(), ".tmp-")) << entry.path();
+}
+
+// --keep-images writes every run's image, the one the row measured: its metrics, recomputed as
+// `penumbra diff` does, are the row's (to the CSV's 6 significant digits), and it carries the
+// run's seed and spp in its metadata.
+TEST_F(BenchCli, KeepImagesWritesTheImageEachRowMeasured) {
+    const std::string out = file("kept");
+    const CliResult r =
+        bench("--pipelines reference,radiosity --spp 1,2 --keep-images --reference " +
+              file("box-reference.exr") + " -o " + out);
+    ASSERT_EQ(r.status, 0) << r.output;
+    const Image reference = readImage(file("box-reference.exr"));
+    const Csv results = readCsv(out + "/results.csv");
+    ASSERT_EQ(results.rows.size(), 4u);
+    for (size_t i = 0; i < results.rows.size(); ++i) {
+        const std::string name = results.rows[i].at("pipeline") + "-" +
+                                 results.rows[i].at("budget") + "spp-r" +
+                                 results.rows[i].at("repeat") + ".exr";
+        ImageMetadata metadata;
+        const Image kept = readImage(out + "/images/" + name, &metadata);
+        const MetricReport report = computeMetrics(kept, reference, nullptr, MetricOptions{});
+        const double relMse = report.rows[size_t(report.rowIndex("luminance"))][Metric::RelMse];
+        EXPECT_NEAR(relMse, results.number(i, "relmse"), 1e-5 * relMse) << name;
+        EXPECT_EQ(std::get<int>(*metadata.find("penumbra:seed")), results.number(i, "seed"))
+            << name;
+        EXPECT_EQ(std::get<int>(*metadata.find("penumbra:spp")), results.number(i, "spp")) << name;
+    }
+    EXPECT_EQ(std::distance(fs::directory_iterator(out + "/images"), fs::directory_iterator()), 4);
 }
 
 // The expected relMSE of an unbiased estimate against a converged reference falls as 1/spp
