@@ -3,6 +3,7 @@
 #include "core/film.h"
 #include "core/gltf_loader.h"
 #include "core/sampler.h"
+#include "raytrace/path_tracer.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/info.h>
@@ -15,9 +16,6 @@ namespace penumbra::bench {
 
 namespace {
 
-// As in PathTracer::Li (raytrace/path_tracer.cpp), which the recorder below must follow.
-constexpr float kMinTerminationProbability = 0.05f;
-constexpr int kRouletteStartDepth = 3;
 // As in ImageRenderer (raytrace/image_renderer.cpp).
 constexpr int kTileSize = 16;
 
@@ -73,8 +71,8 @@ void recordPath(const Scene& scene, Ray ray, Sampler& sampler, RaySet& out) {
             return;
         ray = Scene::spawnRay(*hit, bs->wi);
         ++depth;
-        if (depth >= kRouletteStartDepth) {
-            const float q = glm::max(kMinTerminationProbability, 1.0f - maxComponent(beta));
+        const float q = rouletteTerminationProbability(depth, beta);
+        if (q > 0.0f) {
             if (sampler.get1D() < q)
                 return;
             beta /= 1.0f - q;

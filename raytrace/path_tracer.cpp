@@ -23,6 +23,12 @@ constexpr int kRouletteStartDepth = 3;
 
 }  // namespace
 
+float rouletteTerminationProbability(int depth, const Color& beta) {
+    if (depth < kRouletteStartDepth)
+        return 0.0f;
+    return glm::max(kMinTerminationProbability, 1.0f - maxComponent(beta));
+}
+
 std::string pathTracerLightPaths(const PathTracerSettings& settings) {
     // Without reuse: every path, less the caustic ones (paths with no D: L S* E; one D with no S
     // before it: L D S* E; two or more D: L (D|S)* D S* D S* E). With reuse: what the first
@@ -147,10 +153,9 @@ PathRadiance PathTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHit,
         ray = Scene::spawnRay(*hit, bs->wi);
         ++depth;
 
-        // Russian roulette (Arvo and Kirk 1990), on the throughput without eta scaling.
-        if (depth >= kRouletteStartDepth) {
-            const float q =
-                glm::max(kMinTerminationProbability, 1.0f - maxComponent(beta * etaScale));
+        // Russian roulette, on the throughput without eta scaling.
+        const float q = rouletteTerminationProbability(depth, beta * etaScale);
+        if (q > 0.0f) {
             if (sampler.get1D() < q)
                 break;
             beta /= 1.0f - q;

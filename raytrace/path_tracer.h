@@ -56,6 +56,12 @@ struct PathTracerSettings {
 // settings counts.
 std::string pathTracerLightPaths(const PathTracerSettings& settings);
 
+// Russian roulette (Arvo and Kirk 1990): the probability with which the path tracer ends a path
+// after `depth` scattering events with throughput `beta` (survivors are divided by 1 - q); 0
+// for the first few events, where no sampler dimension is drawn for it. Public so that the
+// benchmarks' ray recorder (bench/cornell_fixture.cpp) ends paths as the tracer does.
+float rouletteTerminationProbability(int depth, const Color& beta);
+
 // What the first visible surface looked like, for AOV layers.
 struct FirstHit {
     bool valid = false;
