@@ -6,7 +6,8 @@
 //
 // Product: the solution ("radiosity", a RadiositySolution) for later passes. When no later pass
 // reuses it, the pass also contributes the image "radiosity" (light paths L D* E: emission seen
-// directly and the diffusely reflected light of every bounce, of the Lambertian layers only) and
+// directly and the reflected light of every bounce, rough glossy reflection spread as
+// Lambertian: radiosity_solver.h) and
 // the requested AOVs; otherwise it forms no image.
 #pragma once
 

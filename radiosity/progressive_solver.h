@@ -5,8 +5,8 @@
 //
 // What the solution contains is what RadiositySolver's contains (radiosity_solver.h): for every
 // element side, the radiance leaving it (cd/m² per linear-sRGB channel) = Le + the diffusely
-// reflected light of the bounces shot so far, of the Lambertian layers only, the punctual lights'
-// direct light included; both sides reflect with the same rho, the back emits only for a
+// reflected light of the bounces shot so far (rho = Bsdf::diffuseGlossyReflectance), the punctual
+// lights' direct light included; both sides reflect with the same rho, the back emits only for a
 // two-sided material, thin glass passes shadow rays with its transmittance. It approximates the
 // same equation, L_i = Le_i + rho_i (D_i + sum_j F_ij V_ij L_j), from below: every shot adds
 // light, and what is missing is the future interreflection of the unshot power U, at most

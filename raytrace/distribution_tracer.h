@@ -8,16 +8,17 @@
 //   are soft over the samples of a pixel, glossy highlights included, with one BSDF sample
 //   towards the emitters weighted against it by MIS (estimateDirectLight: light sampling alone
 //   put 1000 cd/m² fireflies on walls next to the modern hall's lamps);
-// - the indirect-only radiosity solution there as the ambient term: the light of the Lambertian
-//   layer reflected from every diffuse bounce but the first (L D D+), the direct part being the
-//   line above;
+// - the indirect-only radiosity solution there as the ambient term: the light reflected from
+//   every diffuse bounce but the first (L D D+), the direct part being the line above; the
+//   solution reflects with the whole non-delta reflectance (Lambertian layer and rough glossy
+//   lobes, Bsdf::diffuseGlossyReflectance), spread as Lambertian;
 // and continues only through that vertex's specular lobes, if it has any. Emission is counted
 // where a ray from the eye or a specular chain meets it.
 //
 // Light paths: L S* E | L D S* E | L D D+ S* E. Left out: caustics (L S+ D ...), diffuse light
-// reaching the visible surface through mirrors (L D+ S+ D ...), and the indirect light reflected
-// by glossy lobes (the radiosity solution holds the Lambertian layers only): see
-// docs/light-paths.md.
+// reaching the visible surface through mirrors (L D+ S+ D ...), and the direction of the
+// indirect light reflected by glossy lobes (its energy is in the ambient term, but a glossy floor
+// shows no blurred reflection of the walls): see docs/light-paths.md.
 #pragma once
 
 #include "raytrace/path_tracer.h"
@@ -30,8 +31,9 @@ class Sampler;
 struct DistributionSettings {
     int maxSpecularDepth = 16;  // specular vertices followed from the eye
     // Whitted's constant ambient term (Whitted 1980, Eq. 2: I = Ia ka + ...): radiance (cd/m² per
-    // channel) assumed to arrive uniformly at every diffuse surface, reflected by its Lambertian
-    // layer. Used instead of a radiosity solution by the `whitted` pass; 0 = none.
+    // channel) assumed to arrive uniformly at every diffuse surface, reflected by its diffuse and
+    // rough glossy lobes (Bsdf::diffuseGlossyReflectance). Used instead of a radiosity solution by
+    // the `whitted` pass; 0 = none.
     Color ambient{0.0f};
 };
 
