@@ -39,6 +39,44 @@ Color meanTransmittance(const Scene& scene, std::span<const ElementSample> a,
     return sum / static_cast<float>(a.size());
 }
 
+bool isCovered(const Scene& scene, const ElementSample& x, const Vec3& n, float gap,
+               uint64_t& rays) {
+    const Frame frame = Frame::fromNormal(n);
+    constexpr float kSin = 0.8660254f, kCos = 0.5f;  // 60 degrees from the normal
+    const std::array<Vec3, 5> probes = {Vec3(0.0f, 0.0f, 1.0f), Vec3(kSin, 0.0f, kCos),
+                                        Vec3(-kSin, 0.0f, kCos), Vec3(0.0f, kSin, kCos),
+                                        Vec3(0.0f, -kSin, kCos)};
+    for (const Vec3& local : probes) {
+        ++rays;
+        const Vec3 w = frame.toWorld(local);
+        const std::optional<SurfaceHit> hit =
+            scene.intersect(Ray{offsetRayOrigin(x.p, x.pError, x.n, w), w});
+        if (!hit)
+            return false;
+        const Material& material = scene.material(*hit);
+        // Light passes through a transmissive surface, which the mesh does not hold.
+        if (!holdsMaterial(material))
+            return false;
+        const bool inside = !hit->frontFace(w) && !material.doubleSided;
+        if (!(hit->t < gap || inside))
+            return false;
+    }
+    return true;
+}
+
+std::array<float, 2> exposedFractions(const Scene& scene, const RadiosityMesh& mesh, int element,
+                                      int samples, float gap, uint32_t seed, uint64_t& rays) {
+    std::vector<ElementSample> points(static_cast<size_t>(samples));
+    stratifiedElementSamples(scene, mesh, element, seed, IVec2(element, 0), points);
+    std::array<int, 2> exposed{0, 0};
+    for (const ElementSample& x : points) {
+        exposed[0] += isCovered(scene, x, x.n, gap, rays) ? 0 : 1;
+        exposed[1] += isCovered(scene, x, -x.n, gap, rays) ? 0 : 1;
+    }
+    return {static_cast<float>(exposed[0]) / static_cast<float>(samples),
+            static_cast<float>(exposed[1]) / static_cast<float>(samples)};
+}
+
 std::vector<const Light*> punctualLights(const Scene& scene) {
     std::vector<const Light*> lights;
     for (const auto& light : scene.lights()) {

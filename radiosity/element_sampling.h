@@ -46,6 +46,22 @@ void stratifiedElementSamples(const Scene& scene, const RadiosityMesh& mesh, int
 Color meanTransmittance(const Scene& scene, std::span<const ElementSample> a,
                         std::span<const ElementSample> b);
 
+// Whether the point x is covered on the side of normal n (x.n or -x.n): whether every one of five
+// probe rays into that side's hemisphere (the normal, and four at 60 degrees from it) is blocked,
+// by an opaque surface (one the radiosity mesh holds) closer than `gap` metres (the ceiling above
+// a lamp that hangs a tenth of a millimetre under it), or from behind a surface whose material is
+// one-sided (glTF's doubleSided false: its back is not meant to be seen, so the ray is inside a
+// closed object, as from the floor under a box standing on it). A covered point sees nothing and
+// is seen by nothing. Adds the rays it casts to `rays`: one for most exposed points, five for a
+// covered one.
+bool isCovered(const Scene& scene, const ElementSample& x, const Vec3& n, float gap,
+               uint64_t& rays);
+
+// The exposed (not covered) fraction of each side of an element, [front, back], over `samples`
+// stratified points (stratifiedElementSamples with `seed`, "pixel" (element, 0)).
+std::array<float, 2> exposedFractions(const Scene& scene, const RadiosityMesh& mesh, int element,
+                                      int samples, float gap, uint32_t seed, uint64_t& rays);
+
 // The scene's punctual (delta) lights: point, spot, directional.
 std::vector<const Light*> punctualLights(const Scene& scene);
 

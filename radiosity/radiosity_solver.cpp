@@ -39,6 +39,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <numeric>
 #include <sstream>
 #include <unordered_map>
 
@@ -72,9 +73,25 @@ constexpr int kSubdivisionPasses = 4;
 // Shadow rays a link casts before deciding whether it needs all of visibility_samples.
 constexpr int kFirstVisibilityRays = 4;
 
+// Points a partly covered receiver may draw per shadow ray, for its exposed ones (visibility).
+constexpr int kCoveredDraws = 4;
+
 // Shadow rays per child of a partly occluded link's source or receiver (setSourceWeights,
 // setReceiverWeights).
 constexpr int kChildVisibilityRays = 8;
+
+// Points per element whose exposed fraction is sampled (computeExposure): at least this many, and
+// at least one per smallest element's area, at most kMaxExposureSamples.
+constexpr int kExposureSamples = 16;
+constexpr int kMaxExposureSamples = 4096;
+
+// Points of a partly covered receiver that exposedFormFactor sorts by the side of the source's
+// plane they lie on.
+constexpr int kSidePlaneSamples = 64;
+
+// A gap narrower than this fraction of the smallest element's edge (the square root of its area)
+// covers the surface behind it (isCovered, element_sampling.h).
+constexpr float kCoveringGap = 0.1f;
 
 // Centroid distance, in longest edges of the pair, from which a link's form factor is the
 // seven-point rule over the oracle's samples (formFactor).
@@ -169,7 +186,90 @@ void RadiositySolver::resizeArrays() {
     Hchild_.resize(nodes, {Color(0.0f), Color(0.0f), Color(0.0f), Color(0.0f)});
     D_.resize(nodes, Color(0.0f));
     Dspread_.resize(nodes, 0.0f);
+    exposure_.resize(nodes, 1.0f);
     links_.resize(nodes);
+}
+
+// The exposed fractions, by level so that a parent's is known before its children's: an element
+// side whose parent's side is wholly exposed or wholly covered is so too (its parent's points,
+// at least one per smallest element, found no boundary of a covering object there); the others
+// are sampled (exposedFractions, with the points of the direct light, computeDirect, so that the
+// covered points are the same). Then every parent's fraction becomes its children's mean, so that
+// the children's exposed areas add up to their parent's and the push and pull keep the energy.
+void RadiositySolver::computeExposure(const std::vector<int>& elements) {
+    std::vector<int> sorted = elements;
+    std::stable_sort(sorted.begin(), sorted.end(),
+                     [&](int a, int b) { return mesh_.level(a) < mesh_.level(b); });
+    tbb::combinable<uint64_t> rays([] { return uint64_t(0); });
+    for (size_t begin = 0; begin < sorted.size();) {
+        size_t end = begin;
+        while (end < sorted.size() && mesh_.level(sorted[end]) == mesh_.level(sorted[begin]))
+            ++end;
+        tbb::parallel_for(begin, end, [&](size_t i) {
+            const int e = sorted[i];
+            const int parent = mesh_.parent(e);
+            const auto settled = [&](bool side) {
+                if (parent < 0)
+                    return false;
+                const float a = exposure_[node(parent, side)];
+                return a == 0.0f || a == 1.0f;
+            };
+            if (settled(true) && settled(false)) {
+                for (const bool side : {true, false})
+                    exposure_[node(e, side)] = exposure_[node(parent, side)];
+                return;
+            }
+            const int samples = static_cast<int>(std::clamp(
+                std::ceil(mesh_.area(e) / mesh_.minElementArea(e)),
+                static_cast<float>(kExposureSamples), static_cast<float>(kMaxExposureSamples)));
+            const std::array<float, 2> a = exposedFractions(
+                scene_, mesh_, e, samples, coveringGap(e), kDirectSeed, rays.local());
+            exposure_[node(e, true)] = a[0];
+            exposure_[node(e, false)] = a[1];
+        });
+        begin = end;
+    }
+    rays_ += rays.combine(std::plus<uint64_t>());
+    // Children have larger ids than their parents.
+    for (size_t e = mesh_.elementCount(); e-- > 0;) {
+        const int first = mesh_.firstChild(static_cast<int>(e));
+        if (first < 0)
+            continue;
+        for (const bool side : {true, false}) {
+            float sum = 0.0f;
+            for (int c = first; c < first + RadiosityMesh::kChildren; ++c)
+                sum += exposure_[node(c, side)];
+            exposure_[node(static_cast<int>(e), side)] = sum / RadiosityMesh::kChildren;
+        }
+    }
+}
+
+bool RadiositySolver::partlyCovered(int n) const {
+    return !isCluster(n) && exposure_[n] > 0.0f && exposure_[n] < 1.0f;
+}
+
+float RadiositySolver::coveringGap(int e) const {
+    return kCoveringGap * std::sqrt(mesh_.minElementArea(e));
+}
+
+Color RadiositySolver::exposedMean(int n, const std::array<Color, 4>& values) const {
+    const int first = mesh_.firstChild(element(n));
+    Color sum(0.0f), plain(0.0f);
+    float weight = 0.0f;
+    for (int c = 0; c < RadiosityMesh::kChildren; ++c) {
+        const float a = exposure_[node(first + c, front(n))];
+        sum += a * values[c];
+        weight += a;
+        plain += values[c];
+    }
+    return weight > 0.0f ? sum / weight : plain / static_cast<float>(RadiosityMesh::kChildren);
+}
+
+// L = Le + rho (D + H) over the exposed part; a wholly covered leaf side receives nothing.
+Color RadiositySolver::leafRadiance(int n, const Color& H) const {
+    if (!(exposure_[n] > 0.0f))
+        return emission(n);
+    return emission(n) + mesh_.rho(element(n)) * (D_[n] + glm::max(H, Color(0.0f)));
 }
 
 size_t RadiositySolver::linkCount() const {
@@ -379,14 +479,26 @@ Color RadiositySolver::visibility(int receiver, int source, uint64_t& rays, bool
         return front(node) ? mesh_.normal(element(node)) : -mesh_.normal(element(node));
     };
     const Vec3 nr = sideNormal(receiver), ns = sideNormal(source);
+    // A partly covered receiver (exposure_) counts only the pairs from its exposed points, so that
+    // V is the visible fraction of its exposed part, as its radiance is that part's: up to
+    // kCoveredDraws times as many points are drawn. The covered points of a partly covered source
+    // are hidden, though a shadow ray may reach them from inside the closed object that covers
+    // them (from the inner sides of a block, the floor under it).
+    const bool receiverCovered = partlyCovered(receiver), sourceCovered = partlyCovered(source);
     Color sum(0.0f), facingSum(0.0f);
-    int k = 0, facing = 0;
+    int k = 0, counted = 0, facing = 0;
     const auto cast = [&](int until) {
-        for (; k < until; ++k) {
+        for (; counted < until && k < kCoveredDraws * until; ++k) {
             sampler.startPixelSample(pixel, static_cast<uint32_t>(k));
             const ElementSample x = sample(receiver);
             const ElementSample y = sample(source);
-            const Color T = scene_.transmittance(x.p, x.pError, x.n, y.p, y.pError, y.n);
+            if (receiverCovered && isCovered(scene_, x, nr, coveringGap(element(receiver)), rays))
+                continue;
+            ++counted;
+            const Color T =
+                sourceCovered && isCovered(scene_, y, ns, coveringGap(element(source)), rays)
+                    ? Color(0.0f)
+                    : scene_.transmittance(x.p, x.pError, x.n, y.p, y.pError, y.n);
             sum += T;
             if (glm::dot(nr, y.p - x.p) >= 0.0f && glm::dot(ns, x.p - y.p) >= 0.0f) {
                 facingSum += T;
@@ -401,7 +513,9 @@ Color RadiositySolver::visibility(int receiver, int source, uint64_t& rays, bool
     // standing on a floor that runs under it) that made the visible fraction of its hidden part
     // too large and that of its facing part too small.
     const auto estimate = [&] {
-        return facing > 0 ? facingSum / static_cast<float>(facing) : sum / static_cast<float>(k);
+        if (facing > 0)
+            return facingSum / static_cast<float>(facing);
+        return counted > 0 ? sum / static_cast<float>(counted) : Color(0.0f);
     };
     cast(adaptive ? std::min(n, kFirstVisibilityRays) : n);
     const Color first = estimate();
@@ -409,8 +523,43 @@ Color RadiositySolver::visibility(int receiver, int source, uint64_t& rays, bool
     const bool agree = firstSum == 0.0f || firstSum == 3.0f;
     if (!agree)
         cast(n);
-    rays += static_cast<uint64_t>(k);
+    rays += static_cast<uint64_t>(counted);
     return estimate();
+}
+
+// The form factor of a link over the exposed part of a partly covered receiver, from F over the
+// whole receiver. The exposed part's visible fraction is visibility()'s, so covered points that
+// shadow rays find hidden are accounted for; but where the source's own plane hides them (the
+// floor under a block, from the block's faces), F over the whole receiver counts them as zero,
+// and the exposed strip along the block's foot got only a fraction a of its light. With the
+// points of the receiver in front of the source's plane taken to share one mean F (its ratio
+// estimator over kSidePlaneSamples points), the exposed part's F is F P(front | exposed) /
+// P(front): F itself when all points lie on one side.
+float RadiositySolver::exposedFormFactor(int receiver, int source, float F, uint64_t& rays) const {
+    if (isCluster(receiver) || isCluster(source) || !partlyCovered(receiver) || !(F > 0.0f))
+        return F;
+    const int er = element(receiver), es = element(source);
+    const Vec3 nr = front(receiver) ? mesh_.normal(er) : -mesh_.normal(er);
+    const Vec3 ns = front(source) ? mesh_.normal(es) : -mesh_.normal(es);
+    const Vec3 origin = mesh_.corners(es)[0];
+    std::array<ElementSample, kSidePlaneSamples> points;
+    stratifiedElementSamples(scene_, mesh_, er, kDirectSeed, IVec2(er, 0), points);
+    int inFront = 0;
+    for (const ElementSample& x : points)
+        inFront += glm::dot(ns, x.p - origin) > 0.0f ? 1 : 0;
+    if (inFront == 0 || inFront == kSidePlaneSamples)
+        return F;
+    int exposed = 0, exposedInFront = 0;
+    for (const ElementSample& x : points) {
+        if (isCovered(scene_, x, nr, coveringGap(er), rays))
+            continue;
+        ++exposed;
+        exposedInFront += glm::dot(ns, x.p - origin) > 0.0f ? 1 : 0;
+    }
+    if (exposed == 0)
+        return F;
+    return F * (static_cast<float>(exposedInFront) / static_cast<float>(exposed)) /
+           (static_cast<float>(inFront) / static_cast<float>(kSidePlaneSamples));
 }
 
 // --- Direct light of the punctual lights ---------------------------------------------------
@@ -432,7 +581,8 @@ void RadiositySolver::computeDirect(const std::vector<int>& elements, bool repor
         const PunctualDirect direct = punctualDirect(scene_, mesh_, e, lights, n, kDirectSeed);
         for (int side = 0; side < 2; ++side) {
             const int nd = node(e, side == 0);
-            D_[nd] = direct.D[side];
+            // The mean over the exposed part: the covered points' shadow rays are blocked.
+            D_[nd] = exposure_[nd] > 0.0f ? direct.D[side] / exposure_[nd] : direct.D[side];
             Dspread_[nd] = direct.spread[side];
         }
     });
@@ -479,6 +629,7 @@ int RadiositySolver::children(int e) {
 }
 
 void RadiositySolver::finishSplits() {
+    computeExposure(created_);
     computeDirect(created_);
     created_.clear();
 }
@@ -600,7 +751,11 @@ void RadiositySolver::evaluateLinks(const std::vector<PendingLink>& pending) {
         };
         std::unordered_map<uint64_t, int> seen;
         seen.reserve(n);
+        // A partly covered end makes the two directions' transfers differ (visibility,
+        // exposedFormFactor).
         for (size_t i = 0; i < n; ++i) {
+            if (partlyCovered(pending[i].receiver) || partlyCovered(pending[i].source))
+                continue;
             const auto it = seen.find(key(pending[i].source, pending[i].receiver));
             if (it != seen.end() && reverse[static_cast<size_t>(it->second)] < 0) {
                 reverse[static_cast<size_t>(it->second)] = static_cast<int>(i);
@@ -653,7 +808,8 @@ void RadiositySolver::evaluateLinks(const std::vector<PendingLink>& pending) {
                 V[static_cast<size_t>(j)] = V[i];
             if (maxComponent(V[i]) <= 0.0f)
                 return;
-            F[i] = formFactor(p.receiver, p.source, &p.samples);
+            F[i] = exposedFormFactor(p.receiver, p.source,
+                                     formFactor(p.receiver, p.source, &p.samples), rays.local());
             Fmax[i] = glm::max(p.samples.max(), F[i]);
             if (j >= 0) {
                 const size_t r = static_cast<size_t>(j);
@@ -662,7 +818,8 @@ void RadiositySolver::evaluateLinks(const std::vector<PendingLink>& pending) {
             }
             return;
         } else {
-            F[i] = formFactor(p.receiver, p.source, &p.samples);
+            F[i] = exposedFormFactor(p.receiver, p.source,
+                                     formFactor(p.receiver, p.source, &p.samples), rays.local());
             Fmax[i] = glm::max(p.samples.max(), F[i]);
         }
         if (!(F[i] > 0.0f))
@@ -731,8 +888,8 @@ void RadiositySolver::linkPatches() {
     }
     std::vector<PendingLink> pending;
     refine(std::move(pairs), pending);
-    evaluateLinks(pending);
     finishSplits();
+    evaluateLinks(pending);
 }
 
 // --- Clusters ----------------------------------------------------------------------------------
@@ -902,8 +1059,8 @@ void RadiositySolver::linkClusters() {
     threshold_ = refinementThreshold();
     std::vector<PendingLink> pending;
     refine({{clusterNode(0), clusterNode(0)}}, pending);
-    evaluateLinks(pending);
     finishSplits();
+    evaluateLinks(pending);
 }
 
 // HSA91 "RefineLinks": every link whose error (linkErrors) now exceeds the threshold, with the
@@ -931,8 +1088,8 @@ bool RadiositySolver::refineLinks() {
         pairs.push_back({receiver, link.source, link.spread});
     std::vector<PendingLink> pending;
     refine(std::move(pairs), pending);
-    evaluateLinks(pending);
     finishSplits();
+    evaluateLinks(pending);
     refinedLinks_ += candidates.size();
     return !candidates.empty();
 }
@@ -986,6 +1143,8 @@ bool RadiositySolver::subdivideByContrast() {
         const int n = node(e, side);
         return static_cast<double>(maxComponent(glm::max(L_[n] - emission(n), Color(0.0f))));
     };
+    // Only exposed leaf sides show light to compare (exposure_).
+    const auto exposed = [&](int e, bool side) { return exposure_[node(e, side)] > 0.0f; };
     const double relative = settings_.subdivisionThreshold;
     std::vector<int> marked;
     for (size_t i = 0; i < leaves.size(); ++i) {
@@ -994,9 +1153,13 @@ bool RadiositySolver::subdivideByContrast() {
             continue;
         bool contrast = false;
         for (const bool side : {true, false}) {
+            if (!exposed(e, side))
+                continue;
             const double a = reflected(e, side);
             for (const uint32_t v : boundary[i]) {
                 for (const int other : around[v]) {
+                    if (!exposed(other, side))
+                        continue;
                     const double b = reflected(other, side);
                     const double d = std::abs(a - b);
                     contrast = contrast || (d > relative * std::max(a, b) && d > threshold_);
@@ -1019,8 +1182,8 @@ bool RadiositySolver::subdivideByContrast() {
     }
     std::vector<PendingLink> pending;
     refine(std::move(pairs), pending);
-    evaluateLinks(pending);
     finishSplits();
+    evaluateLinks(pending);
     return !marked.empty();
 }
 
@@ -1107,13 +1270,15 @@ void RadiositySolver::setSourceWeights(int receiver, Link& link, uint64_t& rays)
 }
 
 // The receiver side of the same correlation: a link gathered by an element side with children
-// gives them its transfer in proportion to their own visible fractions of the source,
-// u_c = V_c / mean_c V_c (the children have equal areas, so the shares keep the transfer's total),
-// rather than evenly. Evenly, the children hidden from the source (under a block standing on the
-// floor, above the light that hangs 0.1 mm under the Cornell ceiling) received light they cannot
-// have, which is lost, since they show it to nobody, and the children that see the source got too
-// little. An unoccluded link, or one whose children all miss the source, shares evenly (u = 1).
-// Only one level down: the children pass what they get evenly to their own children.
+// gives them its transfer in proportion to their own visible fractions of the source (over their
+// exposed parts, visibility()), u_c = V_c sum_k a_k / sum_k a_k V_k with a_k the children's
+// exposed fractions (the children have equal areas, so the shares keep the transfer over the
+// exposed area, sum_c a_c u_c = sum_c a_c), rather than evenly. Evenly, the children hidden from
+// the source (under a block standing on the floor, above the light that hangs 0.1 mm under the
+// Cornell ceiling) received light they cannot have, which is lost, since they show it to nobody,
+// and the children that see the source got too little. An unoccluded link, or one whose children
+// all miss the source, shares evenly (u = 1). Only one level down: the children pass what they get
+// evenly to their own children.
 void RadiositySolver::setReceiverWeights(int receiver, Link& link, uint64_t& rays) const {
     if (isCluster(receiver) || isCluster(link.source) || mesh_.isLeaf(element(receiver)))
         return;
@@ -1121,11 +1286,17 @@ void RadiositySolver::setReceiverWeights(int receiver, Link& link, uint64_t& ray
     if (!partlyOccluded(link.K, link.F))
         return;
     const std::array<float, 4> V = childVisibility(receiver, link.source, true, rays);
-    const float mean = 0.25f * (V[0] + V[1] + V[2] + V[3]);
-    if (!(mean > 0.0f))
+    const int first = mesh_.firstChild(element(receiver));
+    float sum = 0.0f, exposed = 0.0f;
+    for (int c = 0; c < RadiosityMesh::kChildren; ++c) {
+        const float a = exposure_[node(first + c, front(receiver))];
+        sum += a * V[c];
+        exposed += a;
+    }
+    if (!(sum > 0.0f))
         return;
     for (int c = 0; c < RadiosityMesh::kChildren; ++c)
-        link.u[c] = V[c] / mean;
+        link.u[c] = V[c] * exposed / sum;
 }
 
 // Sets the child weights of links whose source or receiver has been split since they were made.
@@ -1205,7 +1376,10 @@ void RadiositySolver::gatherTree(int n) {
 // on the receiver side only; Gortler, Schroeder, Cohen and Hanrahan 1993, "Wavelet Radiosity",
 // use higher-order bases on both). A partly occluded link's transfer is shared by the visible
 // fractions of the children instead (Hchild_, setReceiverWeights), which keeps its total too. Each
-// leaf forms L = Le + rho (D + H); a parent's radiance is the area-weighted mean of its children's.
+// leaf forms L = Le + rho (D + H); a parent's radiance is the mean of its children's over its
+// exposed part (exposedMean): H, D and L are all means over the exposed parts, which alone send
+// and receive light, so that a leaf straddling the foot of a block shows its lit part's light,
+// and as a source (whose links' visible fractions count its covered part as hidden) sends it.
 // Also pulls the range of max(L) over each node's leaves for the oracle, and adds the leaves'
 // change to `sums`.
 Color RadiositySolver::pushPull(int n, const Color& Hdown, const Mat3& Gdown, ChangeSums& sums) {
@@ -1213,7 +1387,7 @@ Color RadiositySolver::pushPull(int n, const Color& Hdown, const Mat3& Gdown, Ch
     const Color H = H_[n] + Hdown;
     if (mesh_.isLeaf(e)) {
         // The limiter keeps every link's function non-negative; max() only absorbs rounding.
-        const Color L = emission(n) + mesh_.rho(e) * (D_[n] + glm::max(H, Color(0.0f)));
+        const Color L = leafRadiance(n, H);
         const double area = mesh_.area(e);
         sums.change += area * channelSum(glm::abs(L - L_[n]));
         sums.norm += area * channelSum(L);
@@ -1223,18 +1397,17 @@ Color RadiositySolver::pushPull(int n, const Color& Hdown, const Mat3& Gdown, Ch
     }
     const Mat3 G = G_[n] + Gdown;
     const Vec3 center = mesh_.centroid(e);
-    Color sum(0.0f);
+    std::array<Color, 4> Lchild;
     float lo = std::numeric_limits<float>::infinity(), hi = 0.0f;
     const int first = mesh_.firstChild(e);
     for (int c = first; c < first + RadiosityMesh::kChildren; ++c) {
         const int child = node(c, front(n));
-        sum +=
-            mesh_.area(c) *
+        Lchild[c - first] =
             pushPull(child, H + Hchild_[n][c - first] + G * (mesh_.centroid(c) - center), G, sums);
         lo = glm::min(lo, Lmin_[child]);
         hi = glm::max(hi, Lmax_[child]);
     }
-    L_[n] = sum / mesh_.area(e);
+    L_[n] = exposedMean(n, Lchild);
     Lmin_[n] = lo;
     Lmax_[n] = hi;
     return L_[n];
@@ -1475,14 +1648,46 @@ Color RadiositySolver::elementIndirect(int e, bool side) const {
     return glm::max(L_[n] - emission(n) - direct_[n], Color(0.0f));
 }
 
+// A wholly covered leaf side is seen by nobody, but it shares vertices with exposed leaves, whose
+// nodal average (RadiosityMesh::setElementValues) it would darken (the ceiling around a lamp that
+// hangs just under it, the floor around a block): it shows the mean over the exposed leaves
+// below its nearest exposed ancestor instead.
+std::function<Color(int, bool)> RadiositySolver::shownValues(
+    const std::function<Color(int, bool)>& value) const {
+    std::array<std::vector<Color>, 2> mean;
+    for (const bool side : {true, false}) {
+        std::vector<Color>& m = mean[side ? 0 : 1];
+        m.resize(mesh_.elementCount());
+        // Children have larger ids than their parents.
+        for (size_t i = m.size(); i-- > 0;) {
+            const int e = static_cast<int>(i);
+            const int first = mesh_.firstChild(e);
+            if (first < 0) {
+                m[i] = value(e, side);
+                continue;
+            }
+            std::array<Color, 4> values;
+            for (int c = 0; c < RadiosityMesh::kChildren; ++c)
+                values[c] = m[static_cast<size_t>(first + c)];
+            m[i] = exposedMean(node(e, side), values);
+        }
+    }
+    return [this, mean = std::move(mean)](int e, bool side) {
+        while (!(exposure_[node(e, side)] > 0.0f) && mesh_.parent(e) >= 0)
+            e = mesh_.parent(e);
+        return mean[side ? 0 : 1][static_cast<size_t>(e)];
+    };
+}
+
 void RadiositySolver::computeVertexValues() {
     // The whole reflected radiance last, so that the mesh is left with the front's reflected
     // radiance.
-    vertexIndirect_.compute(mesh_, [this](int e, bool side) { return elementIndirect(e, side); });
-    vertexReflected_.compute(mesh_, [this](int element, bool side) {
-        const int n = node(element, side);
-        return glm::max(L_[n] - emission(n), Color(0.0f));
-    });
+    vertexIndirect_.compute(
+        mesh_, shownValues([this](int e, bool side) { return elementIndirect(e, side); }));
+    vertexReflected_.compute(mesh_, shownValues([this](int element, bool side) {
+                                 const int n = node(element, side);
+                                 return glm::max(L_[n] - emission(n), Color(0.0f));
+                             }));
 }
 
 void RadiositySolver::beginStage(const std::string& name, uint64_t total) {
@@ -1519,6 +1724,9 @@ void RadiositySolver::solve(SolveProgress* progress) {
         if (mesh_.isLeaf(static_cast<int>(e)))
             leaves.push_back(static_cast<int>(e));
     }
+    std::vector<int> elements(mesh_.elementCount());
+    std::iota(elements.begin(), elements.end(), 0);
+    computeExposure(elements);
     const bool punctual = !punctualLights(scene_).empty();
     if (punctual)
         beginStage("direct light of the punctual lights", leaves.size());
@@ -1619,10 +1827,11 @@ std::vector<Color> RadiositySolver::solveFullMatrix() const {
         for (size_t j = 0; j < nodes.size(); ++j) {
             if (!mayInteract(nodes[i], nodes[j]))
                 continue;
-            const float F = formFactor(nodes[i], nodes[j]);
+            uint64_t rays = 0;
+            const float F =
+                exposedFormFactor(nodes[i], nodes[j], formFactor(nodes[i], nodes[j]), rays);
             if (F <= 0.0f)
                 continue;
-            uint64_t rays = 0;
             const Color K = F * visibility(nodes[i], nodes[j], rays, false);
             if (maxComponent(K) > 0.0f)
                 rows[i].emplace_back(j, K);
@@ -1632,7 +1841,7 @@ std::vector<Color> RadiositySolver::solveFullMatrix() const {
     // chapter 5), from L = Le + rho D.
     std::vector<Color> x(nodes.size());
     for (size_t i = 0; i < nodes.size(); ++i)
-        x[i] = emission(nodes[i]) + mesh_.rho(element(nodes[i])) * D_[nodes[i]];
+        x[i] = leafRadiance(nodes[i], Color(0.0f));
     for (int sweep = 0; sweep < 1000000; ++sweep) {
         ChangeSums sums;
         for (size_t i = 0; i < nodes.size(); ++i) {
@@ -1640,7 +1849,7 @@ std::vector<Color> RadiositySolver::solveFullMatrix() const {
             for (const auto& [j, K] : rows[i])
                 H += K * x[j];
             const int n = nodes[i];
-            const Color L = emission(n) + mesh_.rho(element(n)) * (D_[n] + H);
+            const Color L = leafRadiance(n, H);
             const double area = mesh_.area(element(n));
             sums.change += area * channelSum(glm::abs(L - x[i]));
             sums.norm += area * channelSum(L);
@@ -1665,7 +1874,7 @@ PassStats RadiositySolver::stats() const {
                                      sizeof(std::array<Color, 4>)) +
                     clusterLinks_.size() * (sizeof(Cluster) + sizeof(std::vector<Link>));
     memory += vertexReflected_.memoryBytes() + vertexIndirect_.memoryBytes() +
-              direct_.size() * sizeof(Color);
+              direct_.size() * sizeof(Color) + exposure_.size() * sizeof(float);
     const RadiosityIteration last = iterations_.empty() ? RadiosityIteration{} : iterations_.back();
     // The reflected luminous flux of each part, pi sum A Y(L) over the leaf sides (lm).
     double directFlux = 0.0, indirectFlux = 0.0;
@@ -1674,8 +1883,9 @@ PassStats RadiositySolver::stats() const {
         if (!mesh_.isLeaf(element))
             continue;
         for (const bool side : {true, false}) {
-            directFlux += kPi * mesh_.area(element) * luminance(elementDirect(element, side));
-            indirectFlux += kPi * mesh_.area(element) * luminance(elementIndirect(element, side));
+            const double area = mesh_.area(element) * exposure_[node(element, side)];
+            directFlux += kPi * area * luminance(elementDirect(element, side));
+            indirectFlux += kPi * area * luminance(elementIndirect(element, side));
         }
     }
     return {{"patches", std::to_string(mesh.patches)},

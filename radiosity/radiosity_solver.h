@@ -28,6 +28,14 @@
 // with F_ij the unoccluded form factor from i to j, V_ij in [0, 1] the visible fraction and D_i the
 // direct irradiance of the punctual lights divided by pi (cd/m²), averaged over the element.
 //
+// Covered parts: where a surface touches another (the floor under a block standing on it, the
+// ceiling over a lamp that hangs just under it), part of an element side sees nothing and is seen
+// by nothing (isCovered, element_sampling.h). Each element side's L, D and the sum above are means
+// over its exposed part only, F_ij V_ij that part's transfer (visibility() and exposedFormFactor
+// in radiosity_solver.cpp), so that an element straddling the foot of a block shows, and sends,
+// the light of its lit part rather than its mean with the dark part under the block; a wholly
+// covered side has L = Le. The cluster model (below) ignores exposure.
+//
 // Clustering: above RadiositySettings::clusterMinPatches patches, the patches are grouped in a
 // bounding-volume hierarchy of clusters (cluster_tree.h) and links may also join a cluster to a
 // cluster or to an element, with the isotropic cluster model of Sillion 1995 (see
@@ -50,6 +58,7 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -231,6 +240,19 @@ class RadiositySolver : public RadiositySolution {
     Color emission(int node) const;
 
     void resizeArrays();
+    // Exposed fractions of both sides of `elements` (exposure_), then of their ancestors.
+    void computeExposure(const std::vector<int>& elements);
+    // The gap (m) under which a surface covers the element (isCovered, element_sampling.h).
+    float coveringGap(int element) const;
+    // Whether the node is an element side with an exposed fraction strictly between 0 and 1.
+    bool partlyCovered(int node) const;
+    // Adds the shadow rays it casts to `rays`.
+    float exposedFormFactor(int receiver, int source, float F, uint64_t& rays) const;
+    // The mean over the exposed part of element side n of one value per child (values[c] of
+    // child c), weighted by the children's exposed fractions; their plain mean if none is exposed.
+    Color exposedMean(int n, const std::array<Color, 4>& values) const;
+    // A leaf side's radiance from what it gathers, H (cd/m², the exposed part's mean).
+    Color leafRadiance(int n, const Color& H) const;
     // Refinement (HSA91 Refine, Link, RefineLinks).
     bool subdivisible(int element) const;
     int children(int element);
@@ -279,6 +301,9 @@ class RadiositySolver : public RadiositySolution {
     void iterate(double threshold, int round, const std::string& stage);
     void computeDirectPart();
     void computeVertexValues();
+    // The per-element value function for SideVertexValues::compute that shows `value` at the
+    // exposed leaf sides and the exposed mean of an ancestor's leaves at covered ones.
+    std::function<Color(int, bool)> shownValues(const std::function<Color(int, bool)>& value) const;
     // The progress sink of solve(), if any (these do nothing without one).
     void beginStage(const std::string& name, uint64_t total);
     void advanceStage(uint64_t work);
@@ -307,9 +332,13 @@ class RadiositySolver : public RadiositySolution {
     // children's visibility of the sources (Link::u); sums to zero over the children.
     std::vector<std::array<Color, 4>> Hchild_;
     std::vector<float> Lmin_, Lmax_;  // range of max(L) over the node's leaves
-    std::vector<Color> D_;            // punctual direct irradiance / pi, averaged over the element
+    std::vector<Color> D_;            // punctual direct irradiance / pi, its exposed part's mean
     std::vector<float> Dspread_;      // spread of max(D) over the element's sample points
     std::vector<Color> direct_;       // the first reflection of the sources (elementDirect)
+    // The fraction of the element side's area that is not covered (exposedFractions,
+    // element_sampling.h): a leaf's L, H and D are the means over that part, the only one that
+    // sends or receives light; a parent's is the mean of its children's.
+    std::vector<float> exposure_;
     std::vector<std::vector<Link>> links_;  // links gathered by this node
 
     // Per cluster (empty without clustering).

@@ -44,18 +44,25 @@ TEST(RadiosityCornellBox, EveryWallAndBlockFaceAgreesWithTheReference) {
     // error of such a mean is below 0.1 % (per-pixel relative deviation near 5 % at 16384 spp,
     // over 30 or more pixels), so the bound is on the radiosity's error alone.
     constexpr int kMinPixels = 30;
-    // The issue asks for 2 %; the solver does not reach it yet. Measured (default settings):
-    // first every face and channel within [-3.4 %, +3.1 %], most of them 1-2 % low; since
-    // partly occluded links weigh the children at either end by their own visible fractions
-    // (setSourceWeights, setReceiverWeights in radiosity_solver.cpp) within [-2.6 %, +1.7 %]:
-    // floor -1.1 %, ceiling -1.7 %, back wall -1.4 %, the worst the short block's front (red)
-    // and its small right face (green), both -2.6 %. What is left is still mostly low: the
-    // ceiling next to the light, which hangs 0.1 mm below it, is 10-15 % low over a few pixels
-    // (its straddling elements show the mean of their lit and covered parts), and the
-    // piecewise-constant leaves lose some of the correlation between what a leaf sees and how
-    // bright it is (a floor-and-ceiling variant: the dense solve over the leaves rises towards
-    // the path tracer as they shrink). This bound holds the solver to what it reaches, with
-    // 0.4 % of margin, so that a regression fails; it is to come down to 0.02.
+    // The issue asks for 2 %; the solver reaches it on every face but the two dimmest blocks'
+    // faces. Measured (default settings): first every face and channel within [-3.4 %, +3.1 %],
+    // most of them 1-2 % low; since partly occluded links weigh the children at either end by
+    // their own visible fractions (setSourceWeights, setReceiverWeights in radiosity_solver.cpp)
+    // within [-2.6 %, +1.7 %]; since the solution is that of the exposed part of each element
+    // (isCovered, element_sampling.h: the ceiling leaves straddling the lamp that hangs 0.1 mm
+    // under it and the floor leaves straddling the blocks' feet showed, and sent, the mean of
+    // their lit and covered parts, 10-15 % low over a few pixels) within [-1.0 %, +2.9 %]: floor
+    // and ceiling within 0.5 %, back wall -1.0 to -0.4 %, side walls within 0.6 %, the blocks'
+    // tops and the tall block's front within 0.8 %, the short block's right face -0.9 to +1.8 %;
+    // above 2 % only the short block's front (+1.1 % red, +2.3 % green, +1.3 % blue) and the tall
+    // block's narrow face towards the red wall (154 pixels; +0.5 %, +2.9 %, +2.4 %), both lit only
+    // indirectly. Their errors vary along them by 5-25 % (the tall block's face was +1.7 % green
+    // before, its too dark bottom rows hiding a middle 4-11 % too bright): the oracle refines
+    // links to epsilon times the scene's mean radiance in the largest channel (red, about 0.5
+    // cd/m² here), near 10 % of these faces' green (0.02-0.03 cd/m²), so their means within 2 %
+    // are a matter of errors cancelling. The bound is the 3 % reached (fixed seeds: the same on
+    // every run), so that a regression fails; it is to come down to 0.02 with a refinement
+    // relative to the receiver's own radiance.
     constexpr double kTolerance = 0.03;
     int regions = 0;
     for (const auto& [mesh, pixels] : p.pixels) {

@@ -353,8 +353,61 @@ TEST(HierarchicalRadiosity, AgreesWithFullMatrixSolve) {
     EXPECT_LT(worstPatch, 0.01);
     EXPECT_LT(meanLeaf, 0.01);
     // A single leaf side differs more where a coarse link in a penumbra estimates its visible
-    // fraction with 16 rays for the whole pair, the dense solve with 16 per leaf pair.
-    EXPECT_LT(worstLeaf, 0.06);
+    // fraction with 16 rays for the whole pair, the dense solve with 16 per leaf pair; and most
+    // (measured up to 0.095, under 0.06 elsewhere) at the ceiling leaves straddling the foot of
+    // the lamp, which hangs 1 cm under it (one-sided: the ceiling over it is covered, isCovered in
+    // element_sampling.h): their value is that of their exposed strip beside the lamp, which the
+    // hierarchical solution lights through links at their parents, shared one level down by the
+    // children's own visible fractions (setReceiverWeights), the dense solve through each leaf's
+    // own links. Hence 0.1.
+    EXPECT_LT(worstLeaf, 0.1);
+}
+
+// --- Covered surfaces ---------------------------------------------------------------------------
+
+// The closed furnace box (every surface emits Le = 1 and reflects rho = 0.5 from its front, one-
+// sided) with a one-sided block standing on its floor (addFloorBlock: five faces facing outward,
+// no bottom). Every surface that sees the enclosure has L = Le / (1 - rho) = 2; the floor under the
+// block is covered (isCovered, element_sampling.h): seen by nobody, lit by nothing but the block's
+// dark inside. The floor leaves straddling the block's foot must show the light of their exposed
+// part, and the covered ones must not darken their exposed neighbours' vertices: the radiance the
+// renderer shows (interpolated) at floor points 1 mm to 3 cm off each of the block's faces must be
+// 2. With the furnace tests' fine settings (9 cm leaves on the floor) it is within 2.2 % (lowest
+// 1.956); without the exposed fractions it was down to 1.56 (22 %), and with them but the block
+// faces' form factors over the whole straddling leaf (exposedFormFactor) to 1.785. The 3 % bound
+// is the measured 2.2 % plus margin; what remains is the contact line's own error (the furnace
+// corners' 1 %).
+TEST(HierarchicalRadiosity, CoveredFloorDoesNotDarkenTheFloorAroundABlock) {
+    GltfBuilder builder;
+    const int material = builder.addMaterial(
+        {.baseColor = Color(0.5f), .emissive = Color(1.0f), .emissiveStrength = 1.0f});
+    addClosedBox(builder, material, material);
+    addFloorBlock(builder, material);  // x in [-0.6, 0.2], z in [-0.2, 0.6]
+    const auto scene = loadBuiltScene(builder, "radiosity-covered-floor");
+    const RadiositySettings settings = furnaceSettings();
+    RadiosityMesh mesh(*scene, settings.meshing(*scene));
+    RadiositySolver solver(*scene, mesh, settings);
+    solver.solve();
+    double worst = 0.0, lowest = 2.0;
+    for (const float d : {1e-3f, 1e-2f, 3e-2f}) {
+        for (int k = 0; k <= 16; ++k) {
+            const float x = -0.6f + 0.05f * k, z = -0.2f + 0.05f * k;
+            for (const Vec2 p :
+                 {Vec2(x, -0.2f - d), Vec2(x, 0.6f + d), Vec2(-0.6f - d, z), Vec2(0.2f + d, z)}) {
+                // The floor point under p, found as a ray straight down finds it.
+                const auto hit = scene->intersect(Ray{Vec3(p.x, -0.9f, p.y), Vec3(0, -1, 0)});
+                ASSERT_TRUE(hit);
+                const Color L = solver.radiance(hit->mesh, hit->triangle, hit->barycentric, true);
+                for (int c = 0; c < 3; ++c) {
+                    worst = std::max(worst, std::abs(L[c] / 2.0 - 1.0));
+                    lowest = std::min(lowest, static_cast<double>(L[c]));
+                }
+            }
+        }
+    }
+    std::cout << "floor around the block: largest relative error " << worst << ", lowest radiance "
+              << lowest << " (exact 2)\n";
+    EXPECT_LT(worst, 0.03);
 }
 
 // --- Punctual lights
