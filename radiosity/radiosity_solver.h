@@ -41,7 +41,8 @@
 // cluster or to an element, with the isotropic cluster model of Sillion 1995 (see
 // radiosity_solver.cpp, clusterKernel): a cluster gathers one radiance that it pushes to the
 // element sides inside it (weighted to first order by their facing, sweepCluster), and shows the
-// others the area-weighted mean radiance of its sides. The model is approximate, and the oracle
+// others the area-weighted mean radiance of its sides, weighted to first order by how its sides
+// face the receiver (clusterRadianceToward). The model is approximate, and the oracle
 // weighs its error (flat clusters most): with clusters forced on, the closed furnace box still
 // gives Le / (1 - rho) within 1 % (tests/radiosity_test.cpp), at more links than without;
 // smaller scenes are solved without clusters.
@@ -288,7 +289,8 @@ class RadiositySolver : public RadiositySolution {
     void setSourceWeights(int receiver, Link& link, uint64_t& rays) const;
     void setReceiverWeights(int receiver, Link& link, uint64_t& rays) const;
     void updateChildWeights();
-    Color sourceRadiance(const Link& link) const;
+    Color clusterRadianceToward(int cluster, const Vec3& toward) const;
+    Color sourceRadiance(int receiver, const Link& link) const;
     void gather(int node);
     void gatherTree(int node);
     void gatherCluster(int cluster);
@@ -345,6 +347,9 @@ class RadiositySolver : public RadiositySolution {
     std::unique_ptr<ClusterTree> clusters_;
     std::vector<Color> clusterL_, clusterH_;
     std::vector<Mat3> clusterW_;  // gathered sum K L d, column k: the channels times d_k
+    // sum over the patches of A (L_front - L_back) n, column k: the channels times n_k
+    // (clusterRadianceToward)
+    std::vector<Mat3> clusterM_;
     std::vector<float> clusterLmin_, clusterLmax_;
     std::vector<std::vector<Link>> clusterLinks_;
     float clusterMinRadius_ = 0.0f;  // metres, see clusterKernel
