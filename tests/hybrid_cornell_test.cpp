@@ -22,19 +22,19 @@ constexpr int kSize = 128;  // the stored reference's size
 
 // Faces seen through at least this many whole pixels (as tests/radiosity_cornell_test.cpp).
 constexpr int kMinPixels = 30;
-// The issue asks for 3 % on every region mean. Measured (seeds 1, 2, 7), since the radiosity
-// solver weighs the children of partly occluded links by their own visibility: distribution within
-// [-2.6 %, +1.6 %] on every seed (the short block's front in red, the tall block's side in green:
-// the radiosity solution's indirect error, which it takes at the visible surface, as the radiosity
-// view: tests/radiosity_cornell_test.cpp), so it is held to the 3 %. The hybrid was within
-// [-3.5 %, +1.7 %] (seeds 1, 2) and [-4.3 %, +1.2 %] (seed 7), the worst again the short block's
-// dim front in red (a face mean of 0.06 cd/m², 64 spp: about 0.8 % of noise): it takes the
-// solution's whole reflected radiance at the second diffuse vertex, and the surfaces that face
-// sees (the floor along the block's foot, the red wall) carry the solution's error near contacts.
-// Taking only the indirect part there and the direct light by next-event estimation made it
-// worse (-5.0 %), so the deficit is in the solution's indirect light. Before the solver's fix
-// the two were within [-4.0 %, +3.2 %] and [-3.4 %, +3.1 %]. The hybrid's bound holds it to what
-// it reaches so that a regression fails; it is to come down to 0.03 with issue 3.
+// The issue asks for 3 % on every region mean. Measured (seeds 1, 2, 7) since the radiosity
+// solution is that of each element's exposed part (isCovered, element_sampling.h): distribution
+// within [-0.9 %, +2.8 %] on every seed, so it is held to the 3 %; the hybrid within [-1.1 %,
+// +3.5 %] (seed 7), +3.8 % (seed 1), +4.0 % (seed 2), every face within 1.1 % but the tall
+// block's narrow face towards the red wall in green and blue (154 pixels, green 0.03 cd/m²),
+// lit only by interreflection: it takes the solution's whole reflected radiance at the second
+// diffuse vertex, and the radiosity view of that face is +2.9 % green itself
+// (tests/radiosity_cornell_test.cpp: the refinement oracle's threshold, relative to the scene's
+// mean radiance, is about 10 % of that face's green). Before: distribution [-2.6 %, +1.6 %],
+// hybrid [-4.3 %, +1.7 %] (the short block's dim front in red); before the solver's visibility
+// fix [-4.0 %, +3.2 %] and [-3.4 %, +3.1 %]. The hybrid's bound holds it to what it reaches so
+// that a regression fails; it is to come down to 0.03 with a refinement relative to each
+// receiver's own radiance (issue 3).
 struct Case {
     std::string pipeline;
     double tolerance;
@@ -77,7 +77,7 @@ TEST_P(ReusingPipelines, EveryWallAndBlockFaceAgreesWithTheReference) {
 }
 
 INSTANTIATE_TEST_SUITE_P(CornellBox, ReusingPipelines,
-                         testing::Values(Case{"hybrid", 0.045}, Case{"distribution", 0.03}),
+                         testing::Values(Case{"hybrid", 0.04}, Case{"distribution", 0.03}),
                          [](const testing::TestParamInfo<Case>& info) {
                              return info.param.pipeline;
                          });
