@@ -204,7 +204,7 @@ std::optional<Bsdf::Query> Bsdf::computeQuery(const Vec3& wo) const {
     return q;
 }
 
-Color Bsdf::evalF(const Query& q, const Vec3& wiWorld, TransportMode mode) const {
+Color Bsdf::evalF(const Query& q, const Vec3& wiWorld, TransportMode mode, bool withMatte) const {
     const float cosGeometric = glm::dot(wiWorld, ng_);
     if (!(std::abs(cosGeometric) > 0.0f) || !std::isfinite(cosGeometric))
         return Color(0.0f);
@@ -220,7 +220,7 @@ Color Bsdf::evalF(const Query& q, const Vec3& wiWorld, TransportMode mode) const
         if (wi.z <= 0.0f)
             return Color(0.0f);
         Color f(0.0f);
-        if (hasDiffuse_) {
+        if (hasDiffuse_ && withMatte) {
             // The matte term of Kelemen and Szirmay-Kalos 2001, "A Microfacet Based Coupled
             // Specular-Matte BRDF Model with Importance Sampling": the Lambertian lobe scaled by
             // the energy the specular layer leaves, (1 - E(wo)) (1 - E(wi)) / (1 - E_avg), per
@@ -320,6 +320,11 @@ float Bsdf::evalPdf(const Query& q, const Vec3& wiWorld) const {
 Color Bsdf::f(const Vec3& wo, const Vec3& wi, TransportMode mode) const {
     const std::optional<Query> q = query(wo);
     return q ? evalF(*q, wi, mode) : Color(0.0f);
+}
+
+Color Bsdf::fGlossy(const Vec3& wo, const Vec3& wi, TransportMode mode) const {
+    const std::optional<Query> q = query(wo);
+    return q ? evalF(*q, wi, mode, false) : Color(0.0f);
 }
 
 float Bsdf::pdf(const Vec3& wo, const Vec3& wi) const {
@@ -435,12 +440,17 @@ Color Bsdf::straightTransmittance(const Vec3& wo) const {
     return (1.0f - params_.metallic) * params_.transmission * params_.baseColor * left;
 }
 
+Color Bsdf::matteReflectance() const {
+    if (!hasDiffuse_)
+        return Color(0.0f);
+    // Average over cosine-weighted wo of the matte albedo baseColor (1 - E(wo)): 1 - E_avg.
+    return (1.0f - params_.metallic) * (1.0f - params_.transmission) * params_.baseColor *
+           glm::max(Color(1.0f) - albedoAvg_, 0.0f);
+}
+
 Color Bsdf::diffuseGlossyReflectance() const {
     const float m = params_.metallic;
-    // Average over cosine-weighted wo of the matte albedo baseColor (1 - E(wo)): 1 - E_avg.
-    Color rho = hasDiffuse_ ? (1.0f - m) * (1.0f - params_.transmission) * params_.baseColor *
-                                  glm::max(Color(1.0f) - albedoAvg_, 0.0f)
-                            : Color(0.0f);
+    Color rho = matteReflectance();
     if (smooth_)
         return rho;  // the reflection lobes are deltas
     // The dielectric reflection has the same GGX lobe in the opaque and the glass terms; the

@@ -48,6 +48,11 @@ class Bsdf {
     Bsdf(const ShadingParams& params, const Frame& shading, const Vec3& ng);
 
     Color f(const Vec3& wo, const Vec3& wi, TransportMode mode = TransportMode::Radiance) const;
+    // f() without the Lambertian layer: the GGX reflection and rough refraction alone, for a
+    // tracer that takes the Lambertian layer's light from elsewhere (distribution ray tracing's
+    // radiosity ambient term). Zero where every non-Lambertian lobe is a delta.
+    Color fGlossy(const Vec3& wo, const Vec3& wi,
+                  TransportMode mode = TransportMode::Radiance) const;
     float pdf(const Vec3& wo, const Vec3& wi) const;
     // Samples wi given wo. uLobe picks the lobe, u the direction within it. Returns nothing when
     // the sample carries no energy (below the horizon, total internal reflection of a lobe with
@@ -77,6 +82,8 @@ class Bsdf {
     // metal adds metallic E_avg(Schlick(baseColor)). Delta (S) lobes and transmission are left
     // out: they are the ray tracer's.
     Color diffuseGlossyReflectance() const;
+    // The Lambertian layer's share of it: (1 - metallic) (1 - transmission) baseColor (1 - E_avg).
+    Color matteReflectance() const;
 
   private:
     // One wo in the local frame, with the quantities every query about it needs.
@@ -95,7 +102,7 @@ class Bsdf {
     Color specularAlbedo(float cosTheta) const;
     Color mirrorFresnel(const Query& q, float cosTheta) const;
     float glassReflectionChoice(const Query& q, float cosTheta) const;
-    Color evalF(const Query& q, const Vec3& wi, TransportMode mode) const;
+    Color evalF(const Query& q, const Vec3& wi, TransportMode mode, bool withMatte = true) const;
     float evalPdf(const Query& q, const Vec3& wi) const;
 
     ShadingParams params_;  // clamped to the ranges of the glTF spec

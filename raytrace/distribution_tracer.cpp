@@ -15,6 +15,44 @@ DistributionTracer::DistributionTracer(const Scene& scene, const DistributionSet
                                        const RadiositySolution* indirect)
     : scene_(scene), settings_(settings), indirect_(indirect) {}
 
+namespace {
+
+// The Lambertian layer's share of what the radiosity solution reflects at this point, per
+// channel: the solution reflects with the whole diffuseGlossyReflectance(), of which the
+// Lambertian layer's part is matteReflectance().
+Color matteShare(const Bsdf& bsdf) {
+    const Color rho = bsdf.diffuseGlossyReflectance();
+    const Color matte = bsdf.matteReflectance();
+    Color share(0.0f);
+    for (int c = 0; c < 3; ++c)
+        share[c] = rho[c] > 0.0f ? matte[c] / rho[c] : 0.0f;
+    return share;
+}
+
+}  // namespace
+
+Color DistributionTracer::glossyIndirect(const SurfaceHit& hit, const Bsdf& bsdf, const Vec3& wo,
+                                         Sampler& sampler, PathCounters& counters) const {
+    const float uLobe = sampler.get1D();
+    const Vec2 u = sampler.get2D();
+    const std::optional<BsdfSample> bs = bsdf.sample(wo, uLobe, u);
+    if (!bs || bs->isDelta() || !(bs->pdf > 0.0f))
+        return Color(0.0f);
+    // fGlossy over the mixture's pdf: an unbiased estimate of the glossy lobes' integral,
+    // whichever of the BSDF's strategies drew the direction.
+    const Color f = bsdf.fGlossy(wo, bs->wi);
+    if (!(maxComponent(f) > 0.0f))
+        return Color(0.0f);
+    ++counters.rays;
+    const std::optional<SurfaceHit> next = scene_.intersect(Scene::spawnRay(hit, bs->wi));
+    if (!next)
+        return Color(0.0f);
+    // Emission is left out: estimateDirectLight's BSDF sample counts it.
+    const Color Lnext = indirect_->radiance(next->mesh, next->triangle, next->barycentric, false,
+                                            glm::dot(-bs->wi, next->ng) > 0.0f);
+    return f * Lnext * (std::abs(glm::dot(bs->wi, bsdf.shadingNormal())) / bs->pdf);
+}
+
 PathRadiance DistributionTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHit,
                                     PathCounters& counters) const {
     const SpecularChainSettings chain{settings_.maxSpecularDepth, true};
@@ -26,8 +64,14 @@ PathRadiance DistributionTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHi
             L[PathComponent::Direct] =
                 estimateDirectLight(scene_, hit, bsdf, wo, vertexSampler, vertexCounters);
             if (indirect_) {
-                L[PathComponent::Indirect] += indirect_->indirectRadiance(
-                    hit.mesh, hit.triangle, hit.barycentric, glm::dot(wo, hit.ng) > 0.0f);
+                L[PathComponent::Indirect] +=
+                    matteShare(bsdf) * indirect_->indirectRadiance(hit.mesh, hit.triangle,
+                                                                   hit.barycentric,
+                                                                   glm::dot(wo, hit.ng) > 0.0f);
+                if (bsdf.lobes() & kLobeGlossy) {
+                    L[PathComponent::Indirect] +=
+                        glossyIndirect(hit, bsdf, wo, vertexSampler, vertexCounters);
+                }
             }
             if (maxComponent(settings_.ambient) > 0.0f)
                 L[PathComponent::Indirect] += bsdf.diffuseGlossyReflectance() * settings_.ambient;

@@ -8,17 +8,19 @@
 //   are soft over the samples of a pixel, glossy highlights included, with one BSDF sample
 //   towards the emitters weighted against it by MIS (estimateDirectLight: light sampling alone
 //   put 1000 cd/m² fireflies on walls next to the modern hall's lamps);
-// - the indirect-only radiosity solution there as the ambient term: the light reflected from
-//   every diffuse bounce but the first (L D D+), the direct part being the line above; the
-//   solution reflects with the whole non-delta reflectance (Lambertian layer and rough glossy
-//   lobes, Bsdf::diffuseGlossyReflectance), spread as Lambertian;
+// - the indirect light (L D D+), the direct part being the line above: for the Lambertian
+//   layer, the indirect-only radiosity solution there as the ambient term (its share of it: the
+//   solution reflects with the whole non-delta reflectance, Lambertian layer and rough glossy
+//   lobes spread as Lambertian, Bsdf::diffuseGlossyReflectance); for the rough glossy lobes,
+//   glossy reflection by sampling the lobe (Cook et al.): one BSDF sample to the next surface,
+//   whose reflected radiance the solution gives;
 // and continues only through that vertex's specular lobes, if it has any. Emission is counted
 // where a ray from the eye or a specular chain meets it.
 //
 // Light paths: L S* E | L D S* E | L D D+ S* E. Left out: caustics (L S+ D ...), diffuse light
-// reaching the visible surface through mirrors (L D+ S+ D ...), and the direction of the
-// indirect light reflected by glossy lobes (its energy is in the ambient term, but a glossy floor
-// shows no blurred reflection of the walls): see docs/light-paths.md.
+// reaching the visible surface through mirrors (L D+ S+ D ...): see docs/light-paths.md. The
+// glossy reflection of other glossy surfaces is that of their radiosity, i.e. spread as
+// Lambertian.
 #pragma once
 
 #include "raytrace/path_tracer.h"
@@ -50,6 +52,11 @@ class DistributionTracer {
     PathRadiance Li(Ray ray, Sampler& sampler, FirstHit* firstHit, PathCounters& counters) const;
 
   private:
+    // The radiosity solution's light that the rough glossy lobes at `hit` reflect towards wo:
+    // one BSDF sample to the next surface, whose reflected radiance (L D+) the solution gives.
+    Color glossyIndirect(const SurfaceHit& hit, const Bsdf& bsdf, const Vec3& wo, Sampler& sampler,
+                         PathCounters& counters) const;
+
     const Scene& scene_;
     DistributionSettings settings_;
     const RadiositySolution* indirect_;

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <functional>
 #include <ostream>
 #include <random>
 #include <string>
@@ -328,17 +329,10 @@ TEST(BsdfFurnace, ImportanceSampledAlbedoMatchesUniformSampling) {
     }
 }
 
-TEST(BsdfFurnace, SmoothDielectricReflectanceIsTheMatteLobesAverageAlbedo) {
-    // A smooth dielectric's reflection is a delta (an S vertex), so diffuseGlossyReflectance()
-    // holds the matte lobe alone, which is f(baseColor 1) - f(baseColor 0) (the specular terms
-    // cancel exactly). Its hemispherical-hemispherical albedo, by a midpoint rule over
-    // cos(theta_o) (isotropy) and stratified directions wi, must match; the matte lobe is
-    // smooth, so 2e-3 covers the quadrature error.
-    ShadingParams p = dielectric(0.0f, Color(1.0f));
-    p.specularColor = Color(1.0f, 3.0f, 8.0f);  // a coloured E_avg
-    const Bsdf white = makeBsdf(p);
-    p.baseColor = Color(0.0f);
-    const Bsdf black = makeBsdf(p);
+// The hemispherical-hemispherical albedo of a lobe f(wo, wi), by a midpoint rule over
+// cos(theta_o) (isotropy) and stratified directions wi; accurate to about 1e-3 for a lobe as
+// smooth as the matte one.
+glm::dvec3 averageAlbedo(const std::function<Color(const Vec3&, const Vec3&)>& lobe) {
     constexpr int kMu = 32, kTheta = 32, kPhi = 64;
     glm::dvec3 rho(0.0);
     for (int a = 0; a < kMu; ++a) {
@@ -351,15 +345,52 @@ TEST(BsdfFurnace, SmoothDielectricReflectanceIsTheMatteLobesAverageAlbedo) {
                 const float phi = 2.0f * kPi * (j + 0.5f) / kPhi;
                 const Vec3 wi(safeSqrt(1.0f - z * z) * std::cos(phi),
                               safeSqrt(1.0f - z * z) * std::sin(phi), z);
-                albedo += glm::dvec3(white.f(wo, wi) - black.f(wo, wi)) * double(z);
+                albedo += glm::dvec3(lobe(wo, wi)) * double(z);
             }
         }
         rho += albedo * (2.0 * kPi / (kTheta * kPhi)) * (2.0 * muO / kMu);
     }
+    return rho;
+}
+
+TEST(BsdfFurnace, SmoothDielectricReflectanceIsTheMatteLobesAverageAlbedo) {
+    // A smooth dielectric's reflection is a delta (an S vertex), so diffuseGlossyReflectance()
+    // holds the matte lobe alone, which is f(baseColor 1) - f(baseColor 0) (the specular terms
+    // cancel exactly); the matte lobe is smooth, so 2e-3 covers the quadrature error.
+    ShadingParams p = dielectric(0.0f, Color(1.0f));
+    p.specularColor = Color(1.0f, 3.0f, 8.0f);  // a coloured E_avg
+    const Bsdf white = makeBsdf(p);
+    p.baseColor = Color(0.0f);
+    const Bsdf black = makeBsdf(p);
+    const glm::dvec3 rho = averageAlbedo(
+        [&](const Vec3& wo, const Vec3& wi) { return white.f(wo, wi) - black.f(wo, wi); });
     const Color expected = white.diffuseGlossyReflectance();
     for (int i = 0; i < 3; ++i)
         EXPECT_NEAR(rho[i], expected[i], 2e-3) << "channel " << i;
+    EXPECT_EQ(expected, white.matteReflectance());
     EXPECT_LT(expected.b, expected.r);  // more specular, less matte
+}
+
+TEST(BsdfFurnace, FLessFGlossyIsTheMatteLobe) {
+    // fGlossy() leaves out exactly the matte lobe: f - fGlossy averages to matteReflectance(),
+    // and a metal (no matte lobe) has fGlossy = f everywhere.
+    ShadingParams p = dielectric(0.3f, Color(0.9f, 0.6f, 0.3f));
+    p.specularColor = Color(1.0f, 3.0f, 8.0f);
+    const Bsdf plastic = makeBsdf(p);
+    const glm::dvec3 rho = averageAlbedo([&](const Vec3& wo, const Vec3& wi) {
+        return plastic.f(wo, wi) - plastic.fGlossy(wo, wi);
+    });
+    for (int i = 0; i < 3; ++i)
+        EXPECT_NEAR(rho[i], plastic.matteReflectance()[i], 2e-3) << "channel " << i;
+    const Bsdf gold = makeBsdf(metal(0.4f, Color(1.0f, 0.766f, 0.336f)));
+    EXPECT_EQ(gold.matteReflectance(), Color(0.0f));
+    std::mt19937 rng(9);
+    std::uniform_real_distribution<float> uniform(0.0f, 1.0f);
+    for (int i = 0; i < 100; ++i) {
+        const Vec3 wo = sampleCosineHemisphere({uniform(rng), uniform(rng)});
+        const Vec3 wi = sampleCosineHemisphere({uniform(rng), uniform(rng)});
+        ASSERT_EQ(gold.fGlossy(wo, wi), gold.f(wo, wi));
+    }
 }
 
 TEST(BsdfFurnace, RoughReflectanceIsTheWholeLobesAverageAlbedo) {
