@@ -60,6 +60,27 @@ constexpr uint32_t kDirectSeed = 0x85ebca6bu;
 // radiance to a few percent.
 constexpr double kRoundConvergence = 2e-2;
 
+// A gather whose absolute change grew this many sweeps in a row, and by kDivergenceGrowth in all,
+// diverges (iterate). The iteration is a contraction in the area-weighted L1 norm when every
+// receiver's rho times the sum of its form factors is below 1 (by reciprocity, A_i F_ij =
+// A_j F_ji, the norm of rho F is the largest such sum), so its absolute changes fall sweep after
+// sweep; the first sweeps of a round may still grow a little while light spreads into new leaves.
+constexpr size_t kDivergenceSweeps = 20;
+constexpr double kDivergenceGrowth = 2.0;
+
+// Whether the last kDivergenceSweeps absolute changes each grew and grew kDivergenceGrowth-fold in
+// all (see kDivergenceSweeps).
+bool diverges(const std::vector<double>& absoluteChanges) {
+    const size_t n = absoluteChanges.size();
+    if (n <= kDivergenceSweeps)
+        return false;
+    for (size_t k = n - kDivergenceSweeps; k < n; ++k) {
+        if (!(absoluteChanges[k] > absoluteChanges[k - 1]))
+            return false;
+    }
+    return absoluteChanges.back() > kDivergenceGrowth * absoluteChanges[n - 1 - kDivergenceSweeps];
+}
+
 // Relative change of a sweep below which it is rounding (iterate): a tenth of float's epsilon,
 // as the area-weighted L1 change of one element's last bit is smaller still.
 constexpr double kRoundingChange = 0.1 * std::numeric_limits<float>::epsilon();
@@ -1512,13 +1533,13 @@ void RadiositySolver::pushPullAll() {
         pushPull(r, Color(0.0f), Mat3(0.0f), ignored);
 }
 
-// One sweep over all patch sides; returns the relative change ||L_k - L_{k-1}|| / ||L_k||
-// (area-weighted L1 over the leaves), which is also the relative residual of the Jacobi form of
+// One sweep over all patch sides; returns the area-weighted L1 norms over the leaves of the change
+// ||L_k - L_{k-1}|| and of L_k, whose ratio is also the relative residual of the Jacobi form of
 // the equation at L_{k-1}. Jacobi gathers everything from the previous sweep's radiance (in
 // parallel), then pushes and pulls each tree; Gauss-Seidel gathers and pushes-pulls one patch
 // side at a time, so later patches already see the new radiance of earlier ones (Cohen and
 // Wallace 1993, chapter 5, applied per tree as in HSA91's "SolveSystem").
-double RadiositySolver::sweep() {
+RadiositySolver::ChangeSums RadiositySolver::sweep() {
     const int roots = static_cast<int>(2 * mesh_.patchCount());
     ChangeSums total;
     if (clusters_) {
@@ -1545,7 +1566,7 @@ double RadiositySolver::sweep() {
             pushPull(r, Color(0.0f), Mat3(0.0f), total);
         }
     }
-    return total.norm > 0.0 ? total.change / total.norm : 0.0;
+    return total;
 }
 
 // Sweeps until the estimated relative error is below `threshold`. The estimate is the a
@@ -1562,7 +1583,7 @@ double RadiositySolver::sweep() {
 void RadiositySolver::iterate(double threshold, int round, const std::string& stage) {
     beginStage(stage, kGatherProgressUnits);
     updateChildWeights();
-    std::vector<double> changes;
+    std::vector<double> changes, absoluteChanges;
     converged_ = false;
     // The bar measures the error's way down on a log scale, from the first sweep's change to the
     // threshold: the error of a contraction falls geometrically, so the bar moves at a steady rate
@@ -1583,8 +1604,20 @@ void RadiositySolver::iterate(double threshold, int round, const std::string& st
     while (iterations_.size() < static_cast<size_t>(settings_.maxIterations)) {
         RadiosityIteration it;
         it.round = round;
-        it.change = sweep();
+        const ChangeSums sums = sweep();
+        it.change = sums.norm > 0.0 ? sums.change / sums.norm : 0.0;
         changes.push_back(it.change);
+        absoluteChanges.push_back(sums.change);
+        if (diverges(absoluteChanges)) {
+            std::ostringstream message;
+            message << "radiosity: the gather diverges in " << stage << ": the change of a sweep"
+                    << " grew " << kDivergenceSweeps << " sweeps in a row, "
+                    << absoluteChanges.back() /
+                           absoluteChanges[absoluteChanges.size() - 1 - kDivergenceSweeps]
+                    << " times in all: rho times the sum of some receiver's form factors exceeds 1"
+                    << " (surfaces counted twice: duplicated or interpenetrating geometry?)";
+            throw std::runtime_error(message.str());
+        }
         it.errorBound = std::numeric_limits<double>::infinity();
         if (it.change < kRoundingChange) {
             it.errorBound = it.change;

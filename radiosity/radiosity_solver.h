@@ -298,7 +298,7 @@ class RadiositySolver : public RadiositySolution {
                        bool gatherNow);
     void pushPullAll();
     Color pushPull(int node, const Color& Hdown, const Mat3& Gdown, ChangeSums& sums);
-    double sweep();
+    ChangeSums sweep();
     // Reports itself as the progress stage `stage`.
     void iterate(double threshold, int round, const std::string& stage);
     void computeDirectPart();

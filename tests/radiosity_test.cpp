@@ -177,6 +177,32 @@ TEST(ClosedFurnaceBox, JacobiAndGaussSeidelAgree) {
     EXPECT_LT(g.iterations.size(), j.iterations.size());
 }
 
+TEST(ClosedFurnaceBox, StopsADivergingGatherWithAnError) {
+    // Every wall twice, in the same place: a receiver sees each source twice, unoccluded, so rho
+    // times its form factors sums to 2 rho = 1.8 and the gather grows by about that factor each
+    // sweep. The solver must say so instead of sweeping max_iterations times.
+    GltfBuilder builder;
+    const int wall = builder.addMaterial(
+        {.baseColor = Color(0.9f), .emissive = Color(1.0f), .emissiveStrength = 1.0f});
+    addClosedBox(builder, wall, wall);
+    addClosedBox(builder, wall, wall);
+    const auto scene = loadBuiltScene(builder, "radiosity-doubled-furnace");
+    RadiositySettings settings;
+    settings.minElementArea = 0.5f / 4.0f;  // one level below the patches: quick
+    settings.maxIterations = 300;
+    RadiosityMesh mesh(*scene, settings.meshing(*scene));
+    RadiositySolver solver(*scene, mesh, settings);
+    try {
+        solver.solve();
+        ADD_FAILURE() << "no error; converged " << solver.converged() << " after "
+                      << solver.iterations().size() << " sweeps";
+    } catch (const std::runtime_error& e) {
+        EXPECT_NE(std::string(e.what()).find("diverges"), std::string::npos) << e.what();
+        // Twenty growing sweeps and a few before them, far from the 300 allowed.
+        EXPECT_LT(solver.iterations().size(), 60u);
+    }
+}
+
 // --- Clusters
 // -------------------------------------------------------------------------------------
 
