@@ -656,6 +656,15 @@ void RadiositySolver::finishSplits() {
     created_.clear();
 }
 
+// The new elements' exposed fractions come before the new links' evaluation: a link with a partly
+// covered end counts only the exposed points (visibility, exposedFormFactor).
+void RadiositySolver::refineAndLink(std::vector<RefinePair> pairs) {
+    std::vector<PendingLink> pending;
+    refine(std::move(pairs), pending);
+    finishSplits();
+    evaluateLinks(pending);
+}
+
 // The two errors a link (receiver <- source) makes, in radiance at the receiver. HSA91's BF oracle
 // weighs the transfer itself, B_q F_pq (times A_p for power); these weigh what the link gets
 // wrong instead, in the way of Lischinski, Smits and Greenberg 1994, "Bounds and Error Estimates
@@ -908,10 +917,7 @@ void RadiositySolver::linkPatches() {
         for (int s = 0; s < roots; ++s)
             pairs.push_back({r, s});
     }
-    std::vector<PendingLink> pending;
-    refine(std::move(pairs), pending);
-    finishSplits();
-    evaluateLinks(pending);
+    refineAndLink(std::move(pairs));
 }
 
 // --- Clusters ----------------------------------------------------------------------------------
@@ -1079,10 +1085,7 @@ void RadiositySolver::refineClusterPair(int receiver, int source, std::vector<Re
 // Initial linking with clusters: the root's self-link, refined.
 void RadiositySolver::linkClusters() {
     threshold_ = refinementThreshold();
-    std::vector<PendingLink> pending;
-    refine({{clusterNode(0), clusterNode(0)}}, pending);
-    finishSplits();
-    evaluateLinks(pending);
+    refineAndLink({{clusterNode(0), clusterNode(0)}});
 }
 
 // HSA91 "RefineLinks": every link whose error (linkErrors) now exceeds the threshold, with the
@@ -1108,10 +1111,7 @@ bool RadiositySolver::refineLinks() {
     std::vector<RefinePair> pairs;
     for (const auto& [receiver, link] : candidates)
         pairs.push_back({receiver, link.source, link.spread});
-    std::vector<PendingLink> pending;
-    refine(std::move(pairs), pending);
-    finishSplits();
-    evaluateLinks(pending);
+    refineAndLink(std::move(pairs));
     refinedLinks_ += candidates.size();
     return !candidates.empty();
 }
@@ -1202,10 +1202,7 @@ bool RadiositySolver::subdivideByContrast() {
             links_[static_cast<size_t>(node(e, side))].clear();
         }
     }
-    std::vector<PendingLink> pending;
-    refine(std::move(pairs), pending);
-    finishSplits();
-    evaluateLinks(pending);
+    refineAndLink(std::move(pairs));
     return !marked.empty();
 }
 

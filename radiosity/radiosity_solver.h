@@ -276,6 +276,8 @@ class RadiositySolver : public RadiositySolution {
     void refine(std::vector<RefinePair> batch, std::vector<PendingLink>& pending);
     LinkErrors linkErrors(int source, float spread, float Fmax) const;
     void evaluateLinks(const std::vector<PendingLink>& pending);
+    // refine(), then finishSplits() and evaluateLinks() on what it made, in that order.
+    void refineAndLink(std::vector<RefinePair> pairs);
     bool refineLinks();
     bool refineDirect();
     bool subdivideByContrast();
