@@ -4,6 +4,7 @@
 #include "core/sampler.h"
 #include "core/sampling.h"
 #include "core/scene.h"
+#include "radiosity/form_factor.h"
 #include "radiosity/radiosity_mesh.h"
 
 #include <cassert>
@@ -86,24 +87,6 @@ std::vector<const Light*> punctualLights(const Scene& scene) {
     return lights;
 }
 
-namespace {
-
-// Solid angle (sr) a triangle subtends at o (Van Oosterom and Strackee 1983, "The Solid Angle of
-// a Plane Triangle", IEEE Trans. Biomed. Eng. 30(2)), in double precision: a metre-sized
-// distance to a kilometre-sized triangle must not cancel.
-double triangleSolidAngle(const Vec3& o, const std::array<Vec3, 3>& corners) {
-    const glm::dvec3 a = glm::dvec3(corners[0]) - glm::dvec3(o);
-    const glm::dvec3 b = glm::dvec3(corners[1]) - glm::dvec3(o);
-    const glm::dvec3 c = glm::dvec3(corners[2]) - glm::dvec3(o);
-    const double la = glm::length(a), lb = glm::length(b), lc = glm::length(c);
-    const double numerator = std::abs(glm::dot(a, glm::cross(b, c)));
-    const double denominator =
-        la * lb * lc + glm::dot(a, b) * lc + glm::dot(a, c) * lb + glm::dot(b, c) * la;
-    return 2.0 * std::atan2(numerator, denominator);
-}
-
-}  // namespace
-
 PunctualDirect punctualDirect(const Scene& scene, const RadiosityMesh& mesh, int element,
                               std::span<const Light* const> lights, int samples, uint32_t seed) {
     PunctualDirect result;
@@ -159,7 +142,7 @@ PunctualDirect punctualDirect(const Scene& scene, const RadiosityMesh& mesh, int
         }
         if (!(weights > 0.0) || !(area > 0.0))
             continue;
-        const double omega = triangleSolidAngle(*position, corners);
+        const double omega = std::abs(triangleSolidAngle(*position, corners));
         const float scale = static_cast<float>(omega / (area * weights)) * kInvPi;
         for (int side = 0; side < 2; ++side)
             result.D[side] += lightSum[side] * scale;

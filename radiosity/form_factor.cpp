@@ -245,4 +245,15 @@ double diskApproximationFormFactor(const Vec3& p, const Vec3& np, const Vec3& q,
     return areaQ * cosP * cosQ / (kPiD * r2 + areaQ);
 }
 
+double triangleSolidAngle(const Vec3& o, const std::array<Vec3, 3>& corners) {
+    const glm::dvec3 a = glm::dvec3(corners[0]) - glm::dvec3(o);
+    const glm::dvec3 b = glm::dvec3(corners[1]) - glm::dvec3(o);
+    const glm::dvec3 c = glm::dvec3(corners[2]) - glm::dvec3(o);
+    const double la = glm::length(a), lb = glm::length(b), lc = glm::length(c);
+    const double numerator = glm::dot(a, glm::cross(c, b));
+    const double denominator =
+        la * lb * lc + glm::dot(a, b) * lc + glm::dot(a, c) * lb + glm::dot(b, c) * la;
+    return 2.0 * std::atan2(numerator, denominator);
+}
+
 }  // namespace penumbra

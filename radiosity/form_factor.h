@@ -15,9 +15,17 @@
 
 #include "core/math.h"
 
+#include <array>
 #include <span>
 
 namespace penumbra {
+
+// Signed solid angle (sr) a triangle subtends at o (Van Oosterom and Strackee 1983, "The Solid
+// Angle of a Plane Triangle", IEEE Trans. Biomed. Eng. 30(2)): positive when o lies in front of
+// it (the corners run counter-clockwise seen from o), in (-2 pi, 2 pi). In double precision: a
+// metre-sized distance to a kilometre-sized triangle must not cancel. Over the triangles of a
+// closed, consistently wound surface the sum is 4 pi times the winding number of o.
+double triangleSolidAngle(const Vec3& o, const std::array<Vec3, 3>& corners);
 
 // Form factor from a differential area at p with unit normal n to a planar convex polygon,
 // F(dA -> P) = 1/pi int_P cos(theta_p) cos(theta_y) / r^2 dA_y, exact by Lambert's contour

@@ -17,9 +17,9 @@
 #include "radiosity/radiosity_mesh.h"
 
 #include "core/scene.h"
+#include "radiosity/quiet_openmesh_errors.h"
 
 #include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
-#include <OpenMesh/Core/System/omstream.hh>
 
 #include <algorithm>
 #include <climits>
@@ -41,22 +41,6 @@ using OpenMesh::VertexHandle;
 // midpoints m01 m12 m20 (indices 3-5), in the order documented in radiosity_mesh.h.
 constexpr int kChildCorners[RadiosityMesh::kChildren][3] = {
     {0, 3, 5}, {3, 1, 4}, {5, 4, 2}, {4, 5, 3}};
-
-// Silences OpenMesh's error stream while in scope: add_face() reports a face it refuses
-// (non-manifold input) on it, and the caller handles that case itself.
-class QuietOpenMeshErrors {
-  public:
-    QuietOpenMeshErrors() : wasEnabled_(omerr().is_enabled()) { omerr().disable(); }
-    ~QuietOpenMeshErrors() {
-        if (wasEnabled_)
-            omerr().enable();
-    }
-    QuietOpenMeshErrors(const QuietOpenMeshErrors&) = delete;
-    QuietOpenMeshErrors& operator=(const QuietOpenMeshErrors&) = delete;
-
-  private:
-    bool wasEnabled_;
-};
 
 Vec3 toVec3(const PolyMesh::Point& p) {
     return {p[0], p[1], p[2]};

@@ -19,9 +19,9 @@
 //  - Units: metres, square metres; rho is a reflectance in [0, 1] per channel; Le is a radiance
 //    in cd/m² per channel.
 //
-// Only radiosity_mesh.cpp sees OpenMesh (STYLE.md, "One module per third-party library"); it holds
-// the leaf elements as a polygon mesh in which an element next to a finer neighbour carries that
-// neighbour's midpoints on its edges (T-vertices, leafBoundary()).
+// Only radiosity_mesh.cpp (and sealed_interiors.cpp) sees OpenMesh (STYLE.md, "One module per
+// third-party library"); it holds the leaf elements as a polygon mesh in which an element next to
+// a finer neighbour carries that neighbour's midpoints on its edges (T-vertices, leafBoundary()).
 #pragma once
 
 #include "core/material.h"

@@ -34,7 +34,10 @@
 // over its exposed part only, F_ij V_ij that part's transfer (visibility() and exposedFormFactor
 // in radiosity_solver.cpp), so that an element straddling the foot of a block shows, and sends,
 // the light of its lit part rather than its mean with the dark part under the block; a wholly
-// covered side has L = Le. The cluster model (below) ignores exposure.
+// covered side has L = Le and no links. The inner sides of closed solids with no light inside
+// (sealed_interiors.h: stair treads, table tops modelled as boxes) are wholly covered whatever
+// the probes find. A cluster's points take part in a link's visible fraction only through the
+// side of their patch that faces the other end, when that side is exposed (visibility()).
 //
 // Clustering: above RadiositySettings::clusterMinPatches patches, the patches are grouped in a
 // bounding-volume hierarchy of clusters (cluster_tree.h) and links may also join a cluster to a
@@ -53,6 +56,7 @@
 #include "radiosity/cluster_tree.h"
 #include "radiosity/radiosity_mesh.h"
 #include "radiosity/radiosity_solution.h"
+#include "radiosity/sealed_interiors.h"
 #include "radiosity/solve_progress.h"
 #include "radiosity/vertex_values.h"
 
@@ -245,6 +249,8 @@ class RadiositySolver : public RadiositySolution {
     void computeExposure(const std::vector<int>& elements);
     // The gap (m) under which a surface covers the element (isCovered, element_sampling.h).
     float coveringGap(int element) const;
+    // Whether the node is a cluster or an element side not wholly covered.
+    bool exposed(int node) const;
     // Whether the node is an element side with an exposed fraction strictly between 0 and 1.
     bool partlyCovered(int node) const;
     // Adds the shadow rays it casts to `rays`.
@@ -279,6 +285,9 @@ class RadiositySolver : public RadiositySolution {
     // refine(), then finishSplits() and evaluateLinks() on what it made, in that order.
     void refineAndLink(std::vector<RefinePair> pairs);
     bool refineLinks();
+    // Area-weighted mean over the patches of the radiance of both sides, per channel.
+    Color meanPatchRadiance() const;
+    bool exceedsThreshold(int receiver, int source, const LinkErrors& errors) const;
     bool refineDirect();
     bool subdivideByContrast();
     double refinementThreshold() const;
@@ -296,8 +305,33 @@ class RadiositySolver : public RadiositySolution {
     void gather(int node);
     void gatherTree(int node);
     void gatherCluster(int cluster);
-    Color sweepCluster(int cluster, const Color& Hdown, const Mat3& Wdown, ChangeSums& sums,
-                       bool gatherNow);
+    // A symmetric 3x3 matrix per channel, sum t d d^T of transfers t from directions d: the
+    // components xx, yy, zz, xy, xz, yz.
+    struct SecondMoment {
+        std::array<Color, 6> q{};
+
+        void add(const Color& t, const Vec3& d) {
+            q[0] += t * (d.x * d.x);
+            q[1] += t * (d.y * d.y);
+            q[2] += t * (d.z * d.z);
+            q[3] += t * (d.x * d.y);
+            q[4] += t * (d.x * d.z);
+            q[5] += t * (d.y * d.z);
+        }
+        // n^T Q n per channel.
+        Color along(const Vec3& n) const {
+            return q[0] * (n.x * n.x) + q[1] * (n.y * n.y) + q[2] * (n.z * n.z) +
+                   2.0f * (q[3] * (n.x * n.y) + q[4] * (n.x * n.z) + q[5] * (n.y * n.z));
+        }
+        SecondMoment operator+(const SecondMoment& o) const {
+            SecondMoment r;
+            for (size_t k = 0; k < q.size(); ++k)
+                r.q[k] = q[k] + o.q[k];
+            return r;
+        }
+    };
+    Color sweepCluster(int cluster, const Color& Hdown, const Mat3& Wdown,
+                       const SecondMoment& Qdown, ChangeSums& sums, bool gatherNow);
     void pushPullAll();
     Color pushPull(int node, const Color& Hdown, const Mat3& Gdown, ChangeSums& sums);
     ChangeSums sweep();
@@ -327,6 +361,7 @@ class RadiositySolver : public RadiositySolution {
     const Scene& scene_;
     RadiosityMesh& mesh_;
     RadiositySettings settings_;
+    SealedInteriors sealed_;
 
     // Per node (2 * element + side).
     std::vector<Color> L_;  // radiance leaving, emission included
@@ -348,7 +383,8 @@ class RadiositySolver : public RadiositySolution {
     // Per cluster (empty without clustering).
     std::unique_ptr<ClusterTree> clusters_;
     std::vector<Color> clusterL_, clusterH_;
-    std::vector<Mat3> clusterW_;  // gathered sum K L d, column k: the channels times d_k
+    std::vector<Mat3> clusterW_;          // gathered sum K L d, column k: the channels times d_k
+    std::vector<SecondMoment> clusterQ_;  // gathered sum K L d d^T
     // sum over the patches of A (L_front - L_back) n, column k: the channels times n_k
     // (clusterRadianceToward)
     std::vector<Mat3> clusterM_;
@@ -356,7 +392,10 @@ class RadiositySolver : public RadiositySolution {
     std::vector<std::vector<Link>> clusterLinks_;
     float clusterMinRadius_ = 0.0f;  // metres, see clusterKernel
 
-    double threshold_ = 0.0;    // the oracle's absolute threshold (radiance) of this round
+    double threshold_ = 0.0;  // the oracle's absolute threshold (radiance) of this round
+    // The receiver-relative criterion's floor per channel (exceedsThreshold); 0 until the first
+    // refinement round, when a solution is known.
+    Color relativeFloor_{0.0f};
     std::vector<int> created_;  // elements split off since the last finishSplits()
     std::vector<RadiosityIteration> iterations_;
     bool converged_ = false;

@@ -13,6 +13,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <iostream>
 #include <string>
 
@@ -29,10 +30,15 @@ TEST(RadiosityCornellBox, EveryWallAndBlockFaceAgreesWithTheReference) {
     const std::vector<int> mask = regionMask(scene, camera, kSize, kSize);
 
     TempDir dir("radiosity-cornell");
+    // The scene's own pass script's epsilon (scenes/cornell-box/radiosity.toml), half the default.
+    const std::string script = dir.file("radiosity.toml");
+    {
+        std::ofstream toml(script);
+        toml << "scene = \"" << kSceneFolder << "/cornell-box.gltf\"\nwidth = 128\nheight = 128\n"
+             << "spp = 4\n[[pass]]\ntype = \"radiosity\"\nepsilon = 0.005\n";
+    }
     const std::string out = dir.file("radiosity.exr");
-    const CliResult result = runPenumbra("render " + kSceneFolder + "/cornell-box.gltf -o " + out +
-                                         " --quiet --pipeline radiosity --width 128 --height 128 "
-                                         "--spp 4");
+    const CliResult result = runPenumbra("render " + script + " -o " + out + " --quiet");
     ASSERT_EQ(result.status, 0) << result.output;
     const Image radiosity = readImage(out);
     const Image reference = readImage(kSceneFolder + "/reference.exr");
@@ -44,26 +50,23 @@ TEST(RadiosityCornellBox, EveryWallAndBlockFaceAgreesWithTheReference) {
     // error of such a mean is below 0.1 % (per-pixel relative deviation near 5 % at 16384 spp,
     // over 30 or more pixels), so the bound is on the radiosity's error alone.
     constexpr int kMinPixels = 30;
-    // The issue asks for 2 %; the solver reaches it on every face but the two dimmest blocks'
-    // faces. Measured (default settings): first every face and channel within [-3.4 %, +3.1 %],
-    // most of them 1-2 % low; since partly occluded links weigh the children at either end by
-    // their own visible fractions (setSourceWeights, setReceiverWeights in radiosity_solver.cpp)
-    // within [-2.6 %, +1.7 %]; since the solution is that of the exposed part of each element
-    // (isCovered, element_sampling.h: the ceiling leaves straddling the lamp that hangs 0.1 mm
-    // under it and the floor leaves straddling the blocks' feet showed, and sent, the mean of
-    // their lit and covered parts, 10-15 % low over a few pixels) within [-1.0 %, +2.9 %]: floor
-    // and ceiling within 0.5 %, back wall -1.0 to -0.4 %, side walls within 0.6 %, the blocks'
-    // tops and the tall block's front within 0.8 %, the short block's right face -0.9 to +1.8 %;
-    // above 2 % only the short block's front (+1.1 % red, +2.3 % green, +1.3 % blue) and the tall
-    // block's narrow face towards the red wall (154 pixels; +0.5 %, +2.9 %, +2.4 %), both lit only
-    // indirectly. Their errors vary along them by 5-25 % (the tall block's face was +1.7 % green
-    // before, its too dark bottom rows hiding a middle 4-11 % too bright): the oracle refines
-    // links to epsilon times the scene's mean radiance in the largest channel (red, about 0.5
-    // cd/m² here), near 10 % of these faces' green (0.02-0.03 cd/m²), so their means within 2 %
-    // are a matter of errors cancelling. The bound is the 3 % reached (fixed seeds: the same on
-    // every run), so that a regression fails; it is to come down to 0.02 with a refinement
-    // relative to the receiver's own radiance.
-    constexpr double kTolerance = 0.03;
+    // The issue asks for 2 %. History (default settings): first every face and channel within
+    // [-3.4 %, +3.1 %], most of them 1-2 % low; since partly occluded links weigh the children at
+    // either end by their own visible fractions (setSourceWeights, setReceiverWeights in
+    // radiosity_solver.cpp) within [-2.6 %, +1.7 %]; since the solution is that of the exposed
+    // part of each element (isCovered, element_sampling.h: the ceiling leaves straddling the lamp
+    // that hangs 0.1 mm under it and the floor leaves straddling the blocks' feet showed, and
+    // sent, the mean of their lit and covered parts, 10-15 % low over a few pixels) within
+    // [-1.0 %, +2.9 %], above 2 % only two faces lit only indirectly, in their weak channels (the
+    // short block's front +2.3 % green, the tall block's narrow face towards the red wall +2.9 %
+    // green). Wholly covered sides no longer linked (2026-12-02) took away the refinement their
+    // links had caused by chance: that face came out +3.2 %. The oracle now also refines a link
+    // whose error is more than epsilon of what the receiver itself reflects in any channel
+    // (exceedsThreshold in radiosity_solver.cpp), and the faces converge to the reference as
+    // epsilon shrinks: [-2.9 %, +1.8 %] at the default 0.01 (the short block's front, -2.3 to
+    // -2.9 %, converges from below), [-1.8 %, +0.2 %] at 0.005, [-0.9 %, +0.1 %] at 0.00125. The
+    // test runs at the scene's own script's 0.005 and holds the issue's 2 %.
+    constexpr double kTolerance = 0.02;
     int regions = 0;
     for (const auto& [mesh, pixels] : p.pixels) {
         if (pixels < kMinPixels)

@@ -42,6 +42,31 @@ void addFloorBlock(GltfBuilder& scene, int material) {
     scene.addQuad(b[3], b[7], b[6], b[2], material);  // y = -0.4, faces +y
 }
 
+TriangleMesh solidBox(const Vec3& lo, const Vec3& hi, bool inward, int faces) {
+    const Vec3 c[8] = {{lo.x, lo.y, lo.z}, {hi.x, lo.y, lo.z}, {hi.x, hi.y, lo.z},
+                       {lo.x, hi.y, lo.z}, {lo.x, lo.y, hi.z}, {hi.x, lo.y, hi.z},
+                       {hi.x, hi.y, hi.z}, {lo.x, hi.y, hi.z}};
+    // Counter-clockwise seen from outside.
+    const int quads[6][4] = {{1, 0, 3, 2}, {4, 5, 6, 7}, {0, 4, 7, 3},
+                             {5, 1, 2, 6}, {3, 7, 6, 2}, {0, 1, 5, 4}};
+    const std::array<uint32_t, 6> outwardOrder{0, 1, 2, 0, 2, 3}, inwardOrder{0, 2, 1, 0, 3, 2};
+    TriangleMesh box;
+    for (int f = 0; f < faces; ++f) {
+        const uint32_t base = static_cast<uint32_t>(box.positions.size());
+        for (const int k : quads[f])
+            box.positions.push_back(c[k]);
+        for (const uint32_t i : inward ? inwardOrder : outwardOrder)
+            box.indices.push_back(base + i);
+    }
+    return box;
+}
+
+void addSolidBox(GltfBuilder& scene, const Vec3& lo, const Vec3& hi, int material, bool inward,
+                 int faces) {
+    const TriangleMesh box = solidBox(lo, hi, inward, faces);
+    scene.addMesh(box.positions, box.indices, material);
+}
+
 void PointLightOverFloor::build(GltfBuilder& scene) const {
     const int floor = scene.addMaterial({.baseColor = Color(rho)});
     scene.addQuad({-half, 0, -half}, {-half, 0, half}, {half, 0, half}, {half, 0, -half}, floor);

@@ -31,6 +31,18 @@ void addCeilingLight(GltfBuilder& scene, float s, float y, float Le);
 // five visible faces facing outward (no bottom).
 void addFloorBlock(GltfBuilder& scene, int material);
 
+// The box [lo, hi] as one mesh of quads with four vertices each (as exporters write flat shaded
+// solids: vertices repeated at every hard edge), facing outward or inward: a closed solid
+// (sealed_interiors.h); its first `faces` of six quads only (the last, y = lo.y, left out of
+// five), an open one.
+struct TriangleMesh {
+    std::vector<Vec3> positions;
+    std::vector<uint32_t> indices;
+};
+TriangleMesh solidBox(const Vec3& lo, const Vec3& hi, bool inward = false, int faces = 6);
+void addSolidBox(GltfBuilder& scene, const Vec3& lo, const Vec3& hi, int material,
+                 bool inward = false, int faces = 6);
+
 // A point light of I candela at height h over a floor [-half, half]^2 (reflectance rho, facing
 // up) in the plane y = 0, and nothing else.
 struct PointLightOverFloor {

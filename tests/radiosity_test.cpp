@@ -308,6 +308,53 @@ TEST_P(ClusteredFurnaceBox, EveryElementGivesLeOverOneMinusRho) {
 
 INSTANTIATE_TEST_SUITE_P(Albedo, ClusteredFurnaceBox, testing::Values(0.5f, 0.9f));
 
+TEST(ClusteredFurnaceBox, SolidsInsideGetTheRoomsRadiance) {
+    // The furnace box (walls emitting Le = 1, rho = 0.5) with five solid slabs inside, each a
+    // closed mesh of a perfect reflector (rho = 1, no emission), with clusters forced on: in a
+    // closed enclosure where every surface is at L = Le / (1 - rho), a perfect reflector that
+    // emits nothing is at L too, so every outer side of every slab must show 2. The slabs' inner
+    // sides face a sealed interior (sealed_interiors.h). Before they were known as such, the
+    // visible fraction of a cluster of slabs counted the rays from the faces turned away from a
+    // source, which leave through the slab itself, as occluded (the isotropic model already
+    // gives those faces nothing): with that visible fraction the slabs' outer sides came out up to
+    // 12 % low (1.0 % on their mean); now within 3.4 % (0.5 % on the mean). The rest is the
+    // cluster model's, which the oracle bounds (clusterKernel).
+    GltfBuilder builder;
+    const int wall = builder.addMaterial(
+        {.baseColor = Color(0.5f), .emissive = Color(1.0f), .emissiveStrength = 1.0f});
+    addClosedBox(builder, wall, wall);
+    const int mirrorWhite = builder.addMaterial({.baseColor = Color(1.0f)});
+    for (int k = 0; k < 5; ++k) {
+        const float y = -0.8f + 0.35f * static_cast<float>(k),
+                    x = -0.6f + 0.2f * static_cast<float>(k);
+        addSolidBox(builder, {x, y, -0.5f}, {x + 0.5f, y + 0.08f, 0.5f}, mirrorWhite);
+    }
+    const auto scene = loadBuiltScene(builder, "radiosity-furnace-solids");
+    RadiositySettings settings = furnaceSettings();
+    settings.patchEdgeLength = 0.5f;
+    settings.clusterMinPatches = 0;
+    RadiosityMesh mesh(*scene, settings.meshing(*scene));
+    RadiositySolver solver(*scene, mesh, settings);
+    solver.solve();
+    ASSERT_TRUE(solver.converged());
+    constexpr uint32_t kFirstSlab = 6;  // after the six walls of addClosedBox
+    double worst = 0.0, weighted = 0.0, area = 0.0;
+    for (size_t e = 0; e < mesh.elementCount(); ++e) {
+        const int element = static_cast<int>(e);
+        if (!mesh.isLeaf(element) || mesh.sceneMesh(element) < kFirstSlab)
+            continue;
+        const double L = solver.elementRadiance(element, true).g;  // the outer side
+        worst = std::max(worst, std::abs(L / 2.0 - 1.0));
+        weighted += mesh.area(element) * L;
+        area += mesh.area(element);
+    }
+    const double meanError = std::abs(weighted / area / 2.0 - 1.0);
+    std::cout << "slabs' outer sides: error of the mean " << meanError << ", largest " << worst
+              << "\n";
+    EXPECT_LT(meanError, 0.01);
+    EXPECT_LT(worst, 0.05);
+}
+
 // --- Against a dense solve
 // ------------------------------------------------------------------------
 
