@@ -22,19 +22,19 @@ constexpr int kSize = 128;  // the stored reference's size
 
 // Faces seen through at least this many whole pixels (as tests/radiosity_cornell_test.cpp).
 constexpr int kMinPixels = 30;
-// The issue asks for 3 % on every region mean. Measured (seeds 1, 2, 7) since the radiosity
-// solution is that of each element's exposed part (isCovered, element_sampling.h): distribution
-// within [-0.9 %, +2.8 %] on every seed, so it is held to the 3 %; the hybrid within [-1.1 %,
-// +3.5 %] (seed 7), +3.8 % (seed 1), +4.0 % (seed 2), every face within 1.1 % but the tall
-// block's narrow face towards the red wall in green and blue (154 pixels, green 0.03 cd/m²),
-// lit only by interreflection: it takes the solution's whole reflected radiance at the second
-// diffuse vertex, and the radiosity view of that face is +2.9 % green itself
-// (tests/radiosity_cornell_test.cpp: the refinement oracle's threshold, relative to the scene's
-// mean radiance, is about 10 % of that face's green). Before: distribution [-2.6 %, +1.6 %],
+// The issue asks for 3 % on every region mean. Measured (seeds 1, 2, 7): since the closed
+// solids' inner sides are sealed and the oracle also weighs each receiver's own radiance
+// (radiosity_solver.cpp, exceedsThreshold) the hybrid is within [-1.6 %, +2.5 %] (the tall
+// block's narrow face towards the red wall in green, +2.0 to +2.5 %, the short block's front
+// -1.6 %), the distribution pipeline within [-2.9 %, +1.7 %] on every seed (its ambient term is
+// the radiosity view's indirect part, whose short block front converges from below as epsilon
+// shrinks: -2.9 % at the default 0.01, -1.8 % at 0.005; tests/radiosity_cornell_test.cpp).
+// Both are held to the issue's 3 %. Before, since the radiosity solution is that of each
+// element's exposed part (isCovered, element_sampling.h): distribution [-0.9 %, +2.8 %], hybrid
+// [-1.1 %, +4.0 %] (that narrow face: the oracle's threshold, relative to the scene's mean
+// radiance only, was about 10 % of its green); before that, distribution [-2.6 %, +1.6 %],
 // hybrid [-4.3 %, +1.7 %] (the short block's dim front in red); before the solver's visibility
-// fix [-4.0 %, +3.2 %] and [-3.4 %, +3.1 %]. The hybrid's bound holds it to what it reaches so
-// that a regression fails; it is to come down to 0.03 with a refinement relative to each
-// receiver's own radiance (issue 3).
+// fix [-4.0 %, +3.2 %] and [-3.4 %, +3.1 %].
 struct Case {
     std::string pipeline;
     double tolerance;
@@ -77,7 +77,7 @@ TEST_P(ReusingPipelines, EveryWallAndBlockFaceAgreesWithTheReference) {
 }
 
 INSTANTIATE_TEST_SUITE_P(CornellBox, ReusingPipelines,
-                         testing::Values(Case{"hybrid", 0.04}, Case{"distribution", 0.03}),
+                         testing::Values(Case{"hybrid", 0.03}, Case{"distribution", 0.03}),
                          [](const testing::TestParamInfo<Case>& info) {
                              return info.param.pipeline;
                          });
