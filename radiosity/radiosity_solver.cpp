@@ -6,7 +6,8 @@
 //   solver              string  "hierarchical"  solution method ("progressive": see
 //                                               progressive_solver.cpp for its own keys)
 //   epsilon             float   0.01            refinement threshold: largest error a link may
-//                                               make, relative to the scene's mean radiance
+//                                               make, relative to the scene's mean radiance and,
+//                                               once solved, to its receiver's (exceedsThreshold)
 //   patch_edge_length   float   0               longest patch edge in m (0 = bounding radius)
 //   min_element_area    float   0               smallest element in m² (0 = total area / 16384)
 //   convergence         float   1e-4            stop when the estimated relative error of the
@@ -24,11 +25,11 @@
 //                                               radiance differs from a neighbour's by more than
 //                                               this fraction (relative), and solve again; 0 = off
 #include "radiosity/radiosity_solver.h"
-#include "core/stats.h"
 
 #include "core/errors.h"
 #include "core/sampler.h"
 #include "core/scene.h"
+#include "core/stats.h"
 #include "radiosity/element_sampling.h"
 #include "radiosity/form_factor.h"
 
@@ -1700,16 +1701,10 @@ void RadiositySolver::iterate(double threshold, int round, const std::string& st
         it.change = sums.norm > 0.0 ? sums.change / sums.norm : 0.0;
         changes.push_back(it.change);
         absoluteChanges.push_back(sums.change);
-        if (diverges(absoluteChanges)) {
-            std::ostringstream message;
-            message << "radiosity: the gather diverges in " << stage << ": the change of a sweep"
-                    << " grew " << kDivergenceSweeps << " sweeps in a row, "
-                    << absoluteChanges.back() /
-                           absoluteChanges[absoluteChanges.size() - 1 - kDivergenceSweeps]
-                    << " times in all: rho times the sum of some receiver's form factors exceeds 1"
-                    << " (surfaces counted twice: duplicated or interpenetrating geometry?)";
-            throw std::runtime_error(message.str());
-        }
+        if (diverges(absoluteChanges))
+            throwDivergence(stage,
+                            absoluteChanges.back() /
+                                absoluteChanges[absoluteChanges.size() - 1 - kDivergenceSweeps]);
         it.errorBound = std::numeric_limits<double>::infinity();
         if (it.change < kRoundingChange) {
             it.errorBound = it.change;
@@ -1965,6 +1960,32 @@ Color RadiositySolver::radiance(uint32_t mesh, uint32_t triangle, Vec3 b, bool i
 Color RadiositySolver::indirectRadiance(uint32_t mesh, uint32_t triangle, Vec3 b,
                                         bool front) const {
     return vertexIndirect_.interpolate(mesh_, mesh_.locate(mesh, triangle, b), front);
+}
+
+// A diverging gather comes from the scene: some receiver's rho times the sum of its form factors
+// exceeds 1, which closed geometry cannot do unless surfaces are counted twice (a face made of
+// stacked copies of coplanar triangles, as one box of the modern hall has). The error names the
+// scene mesh and the place where the radiance grew most, the brightest leaf.
+void RadiositySolver::throwDivergence(const std::string& stage, double growth) const {
+    int brightest = -1;
+    float most = -1.0f;
+    for (size_t n = 0; n < L_.size(); ++n) {
+        const int e = element(static_cast<int>(n));
+        if (mesh_.isLeaf(e) && maxComponent(L_[n]) > most) {
+            most = maxComponent(L_[n]);
+            brightest = e;
+        }
+    }
+    const SceneDescription& description = scene_.description();
+    const Mesh& mesh = description.meshes[mesh_.sceneMesh(brightest)];
+    const glm::dvec3 at = glm::dvec3(mesh_.centroid(brightest)) + description.origin;
+    std::ostringstream message;
+    message << "mesh " << mesh.name << ", around (" << at.x << ", " << at.y << ", " << at.z
+            << ") m: the radiosity gather diverges in " << stage << " (the change of a sweep grew "
+            << kDivergenceSweeps << " sweeps in a row, " << growth
+            << " times in all): rho times the sum of a receiver's form factors exceeds 1 there, "
+               "surfaces counted twice (duplicated or overlapping coplanar triangles?)";
+    throw SceneError(description.file, mesh.source, message.str());
 }
 
 // --- The dense reference ---------------------------------------------------------------------

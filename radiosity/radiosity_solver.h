@@ -82,7 +82,8 @@ struct RadiositySettings {
     std::string solver = "hierarchical";
     // Refinement threshold: a link is refined while the error it makes in the receiver's radiance
     // (RadiositySolver's oracle, radiosity_solver.cpp) exceeds epsilon times the scene's mean
-    // radiance. Dimensionless; smaller is finer and slower.
+    // radiance or, from the first refinement round on, epsilon times what the receiver itself
+    // reflects in any channel (exceedsThreshold). Dimensionless; smaller is finer and slower.
     float epsilon = 1e-2f;
     // Longest patch edge, metres; 0 = the scene's bounding radius (coarse patches: HSA91 links
     // every pair of patches, so their number enters squared).
@@ -335,6 +336,8 @@ class RadiositySolver : public RadiositySolution {
     void pushPullAll();
     Color pushPull(int node, const Color& Hdown, const Mat3& Gdown, ChangeSums& sums);
     ChangeSums sweep();
+    // Throws SceneError naming the mesh and place of the brightest leaf (see iterate()).
+    [[noreturn]] void throwDivergence(const std::string& stage, double growth) const;
     // Reports itself as the progress stage `stage`.
     void iterate(double threshold, int round, const std::string& stage);
     void computeDirectPart();
