@@ -649,31 +649,28 @@ void RadiositySolver::computeDirect(const std::vector<int>& elements, bool repor
 
 // --- Refinement --------------------------------------------------------------------------------
 
-// The oracle's absolute threshold: epsilon times the scene's mean radiance, sum_i A_i max(L_i) /
-// sum_i A_i over the patches (both sides counted in the sum, the area once), so that epsilon is a
-// fraction of a typical radiance whatever the scene's units and brightness.
-double RadiositySolver::refinementThreshold() const {
-    double total = 0.0, area = 0.0;
+// The oracle's thresholds from the current solution. threshold_, the absolute one: epsilon times
+// the scene's mean radiance, sum_i A_i max(L_i) / sum_i A_i over the patches (both sides counted
+// in the sum, the area once), so that epsilon is a fraction of a typical radiance whatever the
+// scene's units and brightness. With `relativeFloor` also relativeFloor_, the receiver-relative
+// criterion's floor (exceedsThreshold): kRelativeFloor times the same mean per channel.
+void RadiositySolver::updateThresholds(bool relativeFloor) {
+    double largest = 0.0, area = 0.0;
+    Color perChannel(0.0f);
     for (size_t p = 0; p < mesh_.patchCount(); ++p) {
         const int e = static_cast<int>(p);
+        const Color L = L_[node(e, true)] + L_[node(e, false)];
         area += mesh_.area(e);
-        total += mesh_.area(e) * static_cast<double>(maxComponent(L_[node(e, true)]) +
-                                                     maxComponent(L_[node(e, false)]));
+        largest += mesh_.area(e) * static_cast<double>(maxComponent(L_[node(e, true)]) +
+                                                       maxComponent(L_[node(e, false)]));
+        perChannel += mesh_.area(e) * L;
     }
-    return area > 0.0 ? settings_.epsilon * total / area : 0.0;
+    if (!(area > 0.0))
+        return;
+    threshold_ = settings_.epsilon * largest / area;
+    if (relativeFloor)
+        relativeFloor_ = kRelativeFloor * perChannel / static_cast<float>(area);
 }
-
-Color RadiositySolver::meanPatchRadiance() const {
-    Color total(0.0f);
-    double area = 0.0;
-    for (size_t p = 0; p < mesh_.patchCount(); ++p) {
-        const int e = static_cast<int>(p);
-        area += mesh_.area(e);
-        total += mesh_.area(e) * (L_[node(e, true)] + L_[node(e, false)]);
-    }
-    return area > 0.0 ? total / static_cast<float>(area) : Color(0.0f);
-}
-
 // Whether a link's error (linkErrors, the larger of the two) is above what the oracle allows: the
 // absolute threshold, and once a solution is known (relativeFloor_ set by refineLinks()) also
 // epsilon times the receiver's own radiance in any channel (at least relativeFloor_). The absolute
@@ -986,7 +983,7 @@ void RadiositySolver::linkPatches() {
         linkClusters();
         return;
     }
-    threshold_ = refinementThreshold();
+    updateThresholds(false);
     std::vector<RefinePair> pairs;
     const int roots = static_cast<int>(2 * mesh_.patchCount());
     for (int r = 0; r < roots; ++r) {
@@ -1166,7 +1163,7 @@ void RadiositySolver::refineClusterPair(int receiver, int source, std::vector<Re
 
 // Initial linking with clusters: the root's self-link, refined.
 void RadiositySolver::linkClusters() {
-    threshold_ = refinementThreshold();
+    updateThresholds(false);
     refineAndLink({{clusterNode(0), clusterNode(0)}});
 }
 
@@ -1174,8 +1171,7 @@ void RadiositySolver::linkClusters() {
 // radiance of the last solve, is replaced by the links Refine() makes for the pair. Returns
 // whether any link was refined.
 bool RadiositySolver::refineLinks() {
-    threshold_ = refinementThreshold();
-    relativeFloor_ = kRelativeFloor * meanPatchRadiance();
+    updateThresholds(true);
     std::vector<std::pair<int, Link>> candidates;
     const auto collect = [&](int receiver) {
         std::erase_if(linksOf(receiver), [&](const Link& link) {
@@ -1203,7 +1199,7 @@ bool RadiositySolver::refineLinks() {
 // more than the threshold (a light pool's falloff, a shadow boundary) is split, down to the
 // minimum area, and its children sample their own. Returns whether any element was split.
 bool RadiositySolver::refineDirect() {
-    threshold_ = refinementThreshold();
+    updateThresholds(false);
     std::vector<int> queue;
     for (size_t e = 0; e < mesh_.elementCount(); ++e) {
         if (mesh_.isLeaf(static_cast<int>(e)))
@@ -1581,10 +1577,10 @@ Color RadiositySolver::sweepCluster(int c, const Color& Hdown, const Mat3& Wdown
     };
     if (cl.isLeaf()) {
         for (const int patch : clusters_->patches(c)) {
-            const Vec3& n = mesh_.normal(patch);
-            const Color slope = 2.0f * (W * n);
+            const Vec3& normal = mesh_.normal(patch);
+            const Color slope = 2.0f * (W * normal);
             // (5/8)(3 n^T Q n - H), the same on both sides.
-            const Color even = 0.625f * (3.0f * Q.along(n) - H);
+            const Color even = 0.625f * (3.0f * Q.along(normal) - H);
             const std::array<Color, 2> Hside{
                 glm::max(H + slope + even, Color(0.0f)),
                 glm::max(H - slope + even, Color(0.0f))};  // front, back
@@ -1596,8 +1592,7 @@ Color RadiositySolver::sweepCluster(int c, const Color& Hdown, const Mat3& Wdown
                 L[side ? 0 : 1] = pushPull(n, Hside[side ? 0 : 1], Mat3(0.0f), sums);
                 add(n, L[side ? 0 : 1], mesh_.area(patch));
             }
-            M += glm::outerProduct(static_cast<float>(mesh_.area(patch)) * (L[0] - L[1]),
-                                   mesh_.normal(patch));
+            M += glm::outerProduct(static_cast<float>(mesh_.area(patch)) * (L[0] - L[1]), normal);
         }
     } else {
         for (const int child : cl.children) {

@@ -286,12 +286,10 @@ class RadiositySolver : public RadiositySolution {
     // refine(), then finishSplits() and evaluateLinks() on what it made, in that order.
     void refineAndLink(std::vector<RefinePair> pairs);
     bool refineLinks();
-    // Area-weighted mean over the patches of the radiance of both sides, per channel.
-    Color meanPatchRadiance() const;
     bool exceedsThreshold(int receiver, int source, const LinkErrors& errors) const;
     bool refineDirect();
     bool subdivideByContrast();
-    double refinementThreshold() const;
+    void updateThresholds(bool relativeFloor);
     // With `report`, advances the current stage by one per element.
     void computeDirect(const std::vector<int>& elements, bool report = false);
     // Solution (HSA91 GatherRad, PushPullRad).
@@ -397,7 +395,7 @@ class RadiositySolver : public RadiositySolution {
 
     double threshold_ = 0.0;  // the oracle's absolute threshold (radiance) of this round
     // The receiver-relative criterion's floor per channel (exceedsThreshold); 0 until the first
-    // refinement round, when a solution is known.
+    // refinement round, when a solution is known (updateThresholds).
     Color relativeFloor_{0.0f};
     std::vector<int> created_;  // elements split off since the last finishSplits()
     std::vector<RadiosityIteration> iterations_;

@@ -14,8 +14,10 @@
 // enclosing a non-zero volume. Its interior is the side its triangles face when its signed
 // volume is negative, else the other. It is sealed when its material is opaque (alphaMode
 // OPAQUE, no transmission), emits nothing, and no light lies inside it: no point or spot light,
-// no centroid of an emissive triangle (winding number of the point, from the solid angles of the
-// surface's triangles). A room modelled as a closed box with its lamps inside is not sealed.
+// no centroid of an emissive triangle (winding number of the point: the sum of the signed solid
+// angles of the surface's triangles over 4 pi, as in Jacobson, Kavan and Sorkine-Hornung 2013,
+// "Robust Inside-Outside Segmentation using Generalized Winding Numbers", SIGGRAPH '13). A room
+// modelled as a closed box with its lamps inside is not sealed.
 #pragma once
 
 #include <cstddef>
