@@ -1742,7 +1742,7 @@ void RadiositySolver::iterate(double threshold, int round, const std::string& st
 void RadiositySolver::computeDirectPart() {
     std::vector<Color> L = L_, H = H_, clusterL = clusterL_, clusterH = clusterH_;
     std::vector<std::array<Color, 4>> Hchild = Hchild_;
-    std::vector<Mat3> G = G_, clusterW = clusterW_;
+    std::vector<Mat3> G = G_, clusterW = clusterW_, clusterM = clusterM_;
     std::vector<SecondMoment> clusterQ = clusterQ_;
     std::vector<float> Lmin = Lmin_, Lmax = Lmax_, clusterLmin = clusterLmin_,
                        clusterLmax = clusterLmax_;
@@ -1778,6 +1778,7 @@ void RadiositySolver::computeDirectPart() {
     clusterH_ = std::move(clusterH);
     clusterW_ = std::move(clusterW);
     clusterQ_ = std::move(clusterQ);
+    clusterM_ = std::move(clusterM);
     clusterLmin_ = std::move(clusterLmin);
     clusterLmax_ = std::move(clusterLmax);
 }
