@@ -4,6 +4,7 @@
 #include "core/sampler.h"
 #include "core/sampling.h"
 #include "core/scene.h"
+#include "radiosity/coincident_faces.h"
 #include "radiosity/form_factor.h"
 #include "radiosity/radiosity_mesh.h"
 
@@ -40,8 +41,8 @@ Color meanTransmittance(const Scene& scene, std::span<const ElementSample> a,
     return sum / static_cast<float>(a.size());
 }
 
-bool isCovered(const Scene& scene, const ElementSample& x, const Vec3& n, float gap,
-               uint64_t& rays) {
+bool isCovered(const Scene& scene, const RadiosityMesh& mesh, const CoincidentFaces& coincident,
+               const ElementSample& x, const Vec3& n, float gap, uint64_t& rays) {
     const Frame frame = Frame::fromNormal(n);
     constexpr float kSin = 0.8660254f, kCos = 0.5f;  // 60 degrees from the normal
     const std::array<Vec3, 5> probes = {Vec3(0.0f, 0.0f, 1.0f), Vec3(kSin, 0.0f, kCos),
@@ -58,21 +59,41 @@ bool isCovered(const Scene& scene, const ElementSample& x, const Vec3& n, float 
         // Light passes through a transmissive surface, which the mesh does not hold.
         if (!holdsMaterial(material))
             return false;
-        const bool inside = !hit->frontFace(w) && !material.doubleSided;
+        // A face hidden under a coincident one is not there: the probe meets the winner
+        // (coincident_faces.h), which may face it the other way (a box modelled twice, once
+        // wound inwards and once outwards).
+        bool frontFace = hit->frontFace(w), doubleSided = material.doubleSided;
+        const int element = mesh.locate(hit->mesh, hit->triangle, hit->barycentric).element;
+        if (element >= 0) {
+            const int winner = coincident.winnerOver(mesh.patch(element), hit->p);
+            if (winner >= 0) {
+                frontFace = glm::dot(mesh.normal(winner), w) < 0.0f;
+                doubleSided = mesh.twoSided(winner);
+            }
+        }
+        const bool inside = !frontFace && !doubleSided;
         if (!(hit->t < gap || inside))
             return false;
     }
     return true;
 }
 
+bool hiddenByCoincident(const CoincidentFaces& coincident, const RadiosityMesh& mesh, int element,
+                        const ElementSample& x) {
+    return coincident.hidden(mesh.patch(element), x.p, 2.0f * glm::dot(glm::abs(x.n), x.pError));
+}
+
 std::array<float, 2> exposedFractions(const Scene& scene, const RadiosityMesh& mesh, int element,
-                                      int samples, float gap, uint32_t seed, uint64_t& rays) {
+                                      int samples, float gap, uint32_t seed,
+                                      const CoincidentFaces& coincident, uint64_t& rays) {
     std::vector<ElementSample> points(static_cast<size_t>(samples));
     stratifiedElementSamples(scene, mesh, element, seed, IVec2(element, 0), points);
     std::array<int, 2> exposed{0, 0};
     for (const ElementSample& x : points) {
-        exposed[0] += isCovered(scene, x, x.n, gap, rays) ? 0 : 1;
-        exposed[1] += isCovered(scene, x, -x.n, gap, rays) ? 0 : 1;
+        if (hiddenByCoincident(coincident, mesh, element, x))
+            continue;
+        exposed[0] += isCovered(scene, mesh, coincident, x, x.n, gap, rays) ? 0 : 1;
+        exposed[1] += isCovered(scene, mesh, coincident, x, -x.n, gap, rays) ? 0 : 1;
     }
     return {static_cast<float>(exposed[0]) / static_cast<float>(samples),
             static_cast<float>(exposed[1]) / static_cast<float>(samples)};
@@ -88,7 +109,8 @@ std::vector<const Light*> punctualLights(const Scene& scene) {
 }
 
 PunctualDirect punctualDirect(const Scene& scene, const RadiosityMesh& mesh, int element,
-                              std::span<const Light* const> lights, int samples, uint32_t seed) {
+                              std::span<const Light* const> lights, int samples, uint32_t seed,
+                              const CoincidentFaces* coincident) {
     PunctualDirect result;
     if (lights.empty())
         return result;
@@ -97,6 +119,11 @@ PunctualDirect punctualDirect(const Scene& scene, const RadiosityMesh& mesh, int
     for (int k = 0; k < samples; ++k) {
         sampler.startPixelSample(IVec2(element, 0), static_cast<uint32_t>(k));
         points[k] = sampleElement(scene, mesh, element, sampler.get2D());
+    }
+    std::vector<char> hidden(points.size(), 0);
+    if (coincident) {
+        for (size_t k = 0; k < points.size(); ++k)
+            hidden[k] = hiddenByCoincident(*coincident, mesh, element, points[k]) ? 1 : 0;
     }
     const std::array<Vec3, 3> corners = mesh.corners(element);
     const double area = mesh.area(element);
@@ -108,6 +135,8 @@ PunctualDirect punctualDirect(const Scene& scene, const RadiosityMesh& mesh, int
         std::optional<Vec3> position;
         for (size_t k = 0; k < points.size(); ++k) {
             const ElementSample& x = points[k];
+            if (hidden[k])
+                continue;
             const LightSampleContext ctx{x.p, x.pError, x.n};
             // A delta light has one direction: the sample point is irrelevant.
             const std::optional<LightLiSample> ls = light->sampleLi(ctx, Vec2(0.5f));

@@ -184,7 +184,8 @@ void ProgressiveSolver::shootPunctualLights(SolveProgress* progress) {
         progress->beginStage("direct light of the punctual lights", receivers_.size());
     parallelForWithProgress(receivers_.size(), lights.empty() ? nullptr : progress, [&](size_t i) {
         const int r = receivers_[i];
-        const PunctualDirect direct = punctualDirect(scene_, mesh_, r, lights, n, kDirectSeed);
+        const PunctualDirect direct =
+            punctualDirect(scene_, mesh_, r, lights, n, kDirectSeed, nullptr);
         for (const bool front : {true, false}) {
             const int nd = node(r, front);
             direct_[nd] = mesh_.rho(r) * direct.D[front ? 0 : 1];

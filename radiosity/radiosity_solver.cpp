@@ -32,6 +32,7 @@
 #include "core/stats.h"
 #include "radiosity/element_sampling.h"
 #include "radiosity/form_factor.h"
+#include "radiosity/gather_divergence.h"
 
 #include <tbb/combinable.h>
 #include <tbb/parallel_for.h>
@@ -42,6 +43,7 @@
 #include <limits>
 #include <numeric>
 #include <sstream>
+#include <tuple>
 #include <unordered_map>
 
 namespace penumbra {
@@ -60,27 +62,6 @@ constexpr uint32_t kDirectSeed = 0x85ebca6bu;
 // Threshold of the intermediate solves between refinement rounds: the oracle only needs the
 // radiance to a few percent.
 constexpr double kRoundConvergence = 2e-2;
-
-// A gather whose absolute change grew this many sweeps in a row, and by kDivergenceGrowth in all,
-// diverges (iterate). The iteration is a contraction in the area-weighted L1 norm when every
-// receiver's rho times the sum of its form factors is below 1 (by reciprocity, A_i F_ij =
-// A_j F_ji, the norm of rho F is the largest such sum), so its absolute changes fall sweep after
-// sweep; the first sweeps of a round may still grow a little while light spreads into new leaves.
-constexpr size_t kDivergenceSweeps = 20;
-constexpr double kDivergenceGrowth = 2.0;
-
-// Whether the last kDivergenceSweeps absolute changes each grew and grew kDivergenceGrowth-fold in
-// all (see kDivergenceSweeps).
-bool diverges(const std::vector<double>& absoluteChanges) {
-    const size_t n = absoluteChanges.size();
-    if (n <= kDivergenceSweeps)
-        return false;
-    for (size_t k = n - kDivergenceSweeps; k < n; ++k) {
-        if (!(absoluteChanges[k] > absoluteChanges[k - 1]))
-            return false;
-    }
-    return absoluteChanges.back() > kDivergenceGrowth * absoluteChanges[n - 1 - kDivergenceSweeps];
-}
 
 // Relative change of a sweep below which it is rounding (iterate): a tenth of float's epsilon,
 // as the area-weighted L1 change of one element's last bit is smaller still.
@@ -131,6 +112,10 @@ constexpr float kRelativeFloor = 0.1f;
 // Radius, in square roots of the smallest element area, under which two clusters (or a cluster
 // and an element) close together are linked rather than split (clusterKernel).
 constexpr float kClusterMinRadius = 2.0f;
+
+// Hops from a wholly hidden leaf to the winner of its coincident patch at most (shownValues):
+// three stacked copies of a face take two.
+constexpr int kMaxCoincidentHops = 4;
 
 }  // namespace
 
@@ -186,7 +171,7 @@ void validateRadiositySettings(const RadiositySettings& s) {
 
 RadiositySolver::RadiositySolver(const Scene& scene, RadiosityMesh& mesh,
                                  const RadiositySettings& settings)
-    : scene_(scene), mesh_(mesh), settings_(settings), sealed_(scene) {
+    : scene_(scene), mesh_(mesh), settings_(settings), sealed_(scene), coincident_(mesh) {
     validateRadiositySettings(settings_);
     resizeArrays();
     if (mesh_.patchCount() > static_cast<size_t>(settings_.clusterMinPatches)) {
@@ -252,7 +237,7 @@ void RadiositySolver::computeExposure(const std::vector<int>& elements) {
                 std::ceil(mesh_.area(e) / mesh_.minElementArea(e)),
                 static_cast<float>(kExposureSamples), static_cast<float>(kMaxExposureSamples)));
             const std::array<float, 2> a = exposedFractions(
-                scene_, mesh_, e, samples, coveringGap(e), kDirectSeed, rays.local());
+                scene_, mesh_, e, samples, coveringGap(e), kDirectSeed, coincident_, rays.local());
             for (const bool side : {true, false}) {
                 const bool sealed = sealed_.faces(mesh_.sceneMesh(e), mesh_.sceneTriangle(e), side);
                 exposure_[node(e, side)] = sealed ? 0.0f : a[side ? 0 : 1];
@@ -285,6 +270,11 @@ bool RadiositySolver::partlyCovered(int n) const {
 
 float RadiositySolver::coveringGap(int e) const {
     return kCoveringGap * std::sqrt(mesh_.minElementArea(e));
+}
+
+bool RadiositySolver::covered(int e, const ElementSample& x, const Vec3& n, uint64_t& rays) const {
+    return hiddenByCoincident(coincident_, mesh_, e, x) ||
+           isCovered(scene_, mesh_, coincident_, x, n, coveringGap(e), rays);
 }
 
 Color RadiositySolver::exposedMean(int n, const std::array<Color, 4>& values) const {
@@ -523,7 +513,7 @@ Color RadiositySolver::visibility(int receiver, int source, uint64_t& rays, bool
         const float a = exposure_[static_cast<size_t>(this->node(s.element, side))];
         if (a == 0.0f || a == 1.0f)
             return a == 1.0f;
-        return !isCovered(scene_, s.x, side ? s.x.n : -s.x.n, coveringGap(s.element), rays);
+        return !covered(s.element, s.x, side ? s.x.n : -s.x.n, rays);
     };
     // Sample coordinates for the (IVec2) pixel of the sequence: cluster ids are negative.
     const IVec2 pixel(receiver < 0 ? 0x40000000 - receiver : receiver,
@@ -548,15 +538,14 @@ Color RadiositySolver::visibility(int receiver, int source, uint64_t& rays, bool
             sampler.startPixelSample(pixel, static_cast<uint32_t>(k));
             const NodeSample xs = sample(receiver), ys = sample(source);
             const ElementSample &x = xs.x, &y = ys.x;
-            if (receiverCovered && isCovered(scene_, x, nr, coveringGap(element(receiver)), rays))
+            if (receiverCovered && covered(element(receiver), x, nr, rays))
                 continue;
             if (!takesPart(receiver, xs, y.p) || !takesPart(source, ys, x.p))
                 continue;
             ++counted;
-            const Color T =
-                sourceCovered && isCovered(scene_, y, ns, coveringGap(element(source)), rays)
-                    ? Color(0.0f)
-                    : scene_.transmittance(x.p, x.pError, x.n, y.p, y.pError, y.n);
+            const Color T = sourceCovered && covered(element(source), y, ns, rays)
+                                ? Color(0.0f)
+                                : scene_.transmittance(x.p, x.pError, x.n, y.p, y.pError, y.n);
             sum += T;
             if (glm::dot(nr, y.p - x.p) >= 0.0f && glm::dot(ns, x.p - y.p) >= 0.0f) {
                 facingSum += T;
@@ -609,7 +598,7 @@ float RadiositySolver::exposedFormFactor(int receiver, int source, float F, uint
         return F;
     int exposed = 0, exposedInFront = 0;
     for (const ElementSample& x : points) {
-        if (isCovered(scene_, x, nr, coveringGap(er), rays))
+        if (covered(er, x, nr, rays))
             continue;
         ++exposed;
         exposedInFront += glm::dot(ns, x.p - origin) > 0.0f ? 1 : 0;
@@ -636,7 +625,8 @@ void RadiositySolver::computeDirect(const std::vector<int>& elements, bool repor
     const int n = settings_.visibilitySamples;
     parallelForWithProgress(elements.size(), report ? progress_ : nullptr, [&](size_t i) {
         const int e = elements[i];
-        const PunctualDirect direct = punctualDirect(scene_, mesh_, e, lights, n, kDirectSeed);
+        const PunctualDirect direct =
+            punctualDirect(scene_, mesh_, e, lights, n, kDirectSeed, &coincident_);
         for (int side = 0; side < 2; ++side) {
             const int nd = node(e, side == 0);
             // The mean over the exposed part: the covered points' shadow rays are blocked.
@@ -1696,7 +1686,7 @@ void RadiositySolver::iterate(double threshold, int round, const std::string& st
         it.change = sums.norm > 0.0 ? sums.change / sums.norm : 0.0;
         changes.push_back(it.change);
         absoluteChanges.push_back(sums.change);
-        if (diverges(absoluteChanges))
+        if (gatherDiverges(absoluteChanges))
             throwDivergence(stage,
                             absoluteChanges.back() /
                                 absoluteChanges[absoluteChanges.size() - 1 - kDivergenceSweeps]);
@@ -1820,10 +1810,49 @@ std::function<Color(int, bool)> RadiositySolver::shownValues(
         }
     }
     return [this, mean = std::move(mean)](int e, bool side) {
+        // A chain of stacked copies has a winner at its end; kMaxCoincidentHops bounds the walk.
+        for (int hop = 0; hop < kMaxCoincidentHops && !(exposure_[node(e, side)] > 0.0f); ++hop) {
+            const std::optional<std::pair<int, bool>> instead = shownInstead(e, side);
+            if (!instead)
+                break;
+            std::tie(e, side) = *instead;
+        }
         while (!(exposure_[node(e, side)] > 0.0f) && mesh_.parent(e) >= 0)
             e = mesh_.parent(e);
         return mean[side ? 0 : 1][static_cast<size_t>(e)];
     };
+}
+
+std::optional<std::pair<int, bool>> RadiositySolver::shownInstead(int e, bool front) const {
+    const Vec3 centroid = mesh_.centroid(e);
+    const int winner = coincident_.winnerOver(mesh_.patch(e), centroid);
+    if (winner < 0)
+        return std::nullopt;
+    // Down the winner's quadtree to the leaf under the centroid: the child whose smallest
+    // barycentric coordinate of the point is largest (the one containing it, robustly).
+    int leaf = winner;
+    while (!mesh_.isLeaf(leaf)) {
+        const int first = mesh_.firstChild(leaf);
+        float best = -std::numeric_limits<float>::infinity();
+        for (int c = first; c < first + RadiosityMesh::kChildren; ++c) {
+            const auto corners = mesh_.corners(c);
+            const Vec3 n = glm::cross(corners[1] - corners[0], corners[2] - corners[0]);
+            const float twiceArea = glm::dot(n, n);
+            float lowest = std::numeric_limits<float>::infinity();
+            for (int k = 0; k < 3; ++k) {
+                const Vec3 edge = corners[(k + 2) % 3] - corners[(k + 1) % 3];
+                lowest = glm::min(
+                    lowest,
+                    glm::dot(n, glm::cross(edge, centroid - corners[(k + 1) % 3])) / twiceArea);
+            }
+            if (lowest > best) {
+                best = lowest;
+                leaf = c;
+            }
+        }
+    }
+    const bool sameFacing = glm::dot(mesh_.normal(winner), mesh_.normal(e)) > 0.0f;
+    return std::pair<int, bool>{leaf, sameFacing ? front : !front};
 }
 
 void RadiositySolver::computeVertexValues() {
@@ -1948,9 +1977,17 @@ Color RadiositySolver::radiance(uint32_t mesh, uint32_t triangle, Vec3 b, bool i
     if (point.element < 0 || vertexReflected_.empty())
         return Color(0.0f);
     Color L = vertexReflected_.interpolate(mesh_, point, front);
-    if (includeEmission)
-        L += emission(node(point.element, front));
-    return L;
+    if (!includeEmission)
+        return L;
+    // A side hidden under a coincident face shows that face's light (shownValues), its emission
+    // too.
+    int e = point.element;
+    bool side = front;
+    if (!(exposure_[node(e, side)] > 0.0f)) {
+        if (const std::optional<std::pair<int, bool>> instead = shownInstead(e, side))
+            std::tie(e, side) = *instead;
+    }
+    return L + emission(node(e, side));
 }
 
 Color RadiositySolver::indirectRadiance(uint32_t mesh, uint32_t triangle, Vec3 b,
@@ -2066,6 +2103,8 @@ PassStats RadiositySolver::stats() const {
             {"leaves", std::to_string(mesh.leaves)},
             {"clusters", std::to_string(clusters_ ? clusters_->size() : 0)},
             {"sealed_solids", std::to_string(sealed_.count())},
+            {"coincident_patches", std::to_string(coincident_.losingPatches())},
+            {"coincident_area_m2", formatStat(coincident_.losingArea())},
             {"links", std::to_string(links)},
             {"refinement_rounds", std::to_string(rounds_)},
             {"refined_links", std::to_string(refinedLinks_)},

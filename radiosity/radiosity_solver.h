@@ -37,7 +37,9 @@
 // covered side has L = Le and no links. The inner sides of closed solids with no light inside
 // (sealed_interiors.h: stair treads, table tops modelled as boxes) are wholly covered whatever
 // the probes find. A cluster's points take part in a link's visible fraction only through the
-// side of their patch that faces the other end, when that side is exposed (visibility()).
+// side of their patch that faces the other end, when that side is exposed (visibility()). A face
+// lying on another in the same plane (coincident_faces.h) is covered on both sides where it
+// loses to the other, and shows the winner's light there.
 //
 // Clustering: above RadiositySettings::clusterMinPatches patches, the patches are grouped in a
 // bounding-volume hierarchy of clusters (cluster_tree.h) and links may also join a cluster to a
@@ -54,6 +56,7 @@
 #include "core/math.h"
 #include "core/pass.h"
 #include "radiosity/cluster_tree.h"
+#include "radiosity/coincident_faces.h"
 #include "radiosity/radiosity_mesh.h"
 #include "radiosity/radiosity_solution.h"
 #include "radiosity/sealed_interiors.h"
@@ -65,12 +68,15 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace penumbra {
 
 class Scene;
+struct ElementSample;
 
 // The parameters of the radiosity pass; their table (key, type, default, meaning) is at the top of
 // radiosity_solver.cpp.
@@ -136,7 +142,8 @@ class RadiositySolver : public RadiositySolution {
 
     // Radiance (cd/m²) leaving the surface at barycentric b of scene triangle (mesh, triangle)
     // on its front (or back) side: the Gouraud interpolation of the reflected part
-    // (RadiosityMesh::setElementValues) plus, if includeEmission, the element's own flat Le.
+    // (RadiosityMesh::setElementValues) plus, if includeEmission, the element's own flat Le. A
+    // side hidden under a coincident face (coincident_faces.h) shows that face's light.
     // Zero on a triangle the mesh does not hold.
     Color radiance(uint32_t mesh, uint32_t triangle, Vec3 b, bool includeEmission,
                    bool front = true) const override;
@@ -250,6 +257,13 @@ class RadiositySolver : public RadiositySolution {
     void computeExposure(const std::vector<int>& elements);
     // The gap (m) under which a surface covers the element (isCovered, element_sampling.h).
     float coveringGap(int element) const;
+    // Whether the point x of the element is covered on the side of normal n: hidden by a
+    // coincident patch (coincident_faces.h) or covered by a surface within the gap (isCovered,
+    // element_sampling.h). Adds the rays it casts to `rays`.
+    bool covered(int element, const ElementSample& x, const Vec3& n, uint64_t& rays) const;
+    // For a leaf side wholly hidden by a coincident patch: the leaf side of the winning patch
+    // under the leaf's centroid, whose light the hidden one shows (shownValues).
+    std::optional<std::pair<int, bool>> shownInstead(int element, bool front) const;
     // Whether the node is a cluster or an element side not wholly covered.
     bool exposed(int node) const;
     // Whether the node is an element side with an exposed fraction strictly between 0 and 1.
@@ -363,6 +377,7 @@ class RadiositySolver : public RadiositySolution {
     RadiosityMesh& mesh_;
     RadiositySettings settings_;
     SealedInteriors sealed_;
+    CoincidentFaces coincident_;
 
     // Per node (2 * element + side).
     std::vector<Color> L_;  // radiance leaving, emission included

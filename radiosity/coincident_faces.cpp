@@ -1,0 +1,160 @@
+#include "radiosity/coincident_faces.h"
+
+#include "radiosity/radiosity_mesh.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+namespace penumbra {
+
+namespace {
+
+using DVec3 = glm::dvec3;
+
+// Parallel or opposite normals: |cos| above this (about 0.25 degrees).
+constexpr double kParallelCosine = 1.0 - 1e-5;
+// Corners within this fraction of the coordinates' magnitude of the other's plane: float
+// positions of the same plane, not a surface laid a visible distance over another (which the
+// covering probes see). Ray offsets are of the order of 1e-7 to 1e-6 of the magnitude.
+constexpr double kRelativePlaneTolerance = 1e-5;
+// Two triangles whose projections overlap by less than this fraction of their size only touch
+// (neighbours in one plane share edges).
+constexpr double kRelativeTouch = 1e-6;
+
+struct Box {
+    Vec3 lo, hi;
+};
+
+Box boundsOf(const std::array<Vec3, 3>& c) {
+    return {glm::min(c[0], glm::min(c[1], c[2])), glm::max(c[0], glm::max(c[1], c[2]))};
+}
+
+DVec3 toDouble(const Vec3& v) {
+    return DVec3(v);
+}
+
+// Whether the two triangles, in the plane of normal n, overlap with positive area: no separating
+// axis among the six edge normals (the separating axis theorem for convex polygons).
+bool overlapInPlane(const std::array<DVec3, 3>& a, const std::array<DVec3, 3>& b, const DVec3& n,
+                    double size) {
+    for (const auto* t : {&a, &b}) {
+        for (int k = 0; k < 3; ++k) {
+            const DVec3 axis = glm::cross(n, (*t)[(k + 1) % 3] - (*t)[k]);
+            const double length = glm::length(axis);
+            if (!(length > 0.0))
+                continue;
+            double aLo = INFINITY, aHi = -INFINITY, bLo = INFINITY, bHi = -INFINITY;
+            for (int v = 0; v < 3; ++v) {
+                const double pa = glm::dot(axis, a[v]) / length;
+                const double pb = glm::dot(axis, b[v]) / length;
+                aLo = std::min(aLo, pa);
+                aHi = std::max(aHi, pa);
+                bLo = std::min(bLo, pb);
+                bHi = std::max(bHi, pb);
+            }
+            if (std::min(aHi, bHi) - std::max(aLo, bLo) <= kRelativeTouch * size)
+                return false;
+        }
+    }
+    return true;
+}
+
+double magnitude(const std::array<DVec3, 3>& c) {
+    double m = 0.0;
+    for (const DVec3& v : c)
+        m = std::max({m, std::abs(v.x), std::abs(v.y), std::abs(v.z)});
+    return m;
+}
+
+double longestEdge(const std::array<DVec3, 3>& c) {
+    return std::max({glm::length(c[1] - c[0]), glm::length(c[2] - c[1]), glm::length(c[0] - c[2])});
+}
+
+}  // namespace
+
+CoincidentFaces::CoincidentFaces(const RadiosityMesh& mesh) : winners_(mesh.patchCount()) {
+    const int n = static_cast<int>(mesh.patchCount());
+    std::vector<Box> boxes(static_cast<size_t>(n));
+    for (int p = 0; p < n; ++p)
+        boxes[static_cast<size_t>(p)] = boundsOf(mesh.corners(p));
+    std::vector<int> order(static_cast<size_t>(n));
+    std::iota(order.begin(), order.end(), 0);
+    std::sort(order.begin(), order.end(), [&](int a, int b) {
+        return boxes[static_cast<size_t>(a)].lo.x < boxes[static_cast<size_t>(b)].lo.x;
+    });
+    const auto corners = [&](int p) {
+        const auto c = mesh.corners(p);
+        return std::array<DVec3, 3>{toDouble(c[0]), toDouble(c[1]), toDouble(c[2])};
+    };
+    const auto emits = [&](int p) { return maxComponent(mesh.Le(p)) > 0.0f; };
+    // Whether patch a wins over patch b (see the header).
+    const auto wins = [&](int a, int b) { return emits(a) != emits(b) ? emits(a) : a < b; };
+    const auto coincident = [&](int a, int b) {
+        if (mesh.sceneMesh(a) == mesh.sceneMesh(b) &&
+            mesh.sceneTriangle(a) == mesh.sceneTriangle(b))
+            return false;  // the patches of one triangle tile it
+        const DVec3 na = toDouble(mesh.normal(a)), nb = toDouble(mesh.normal(b));
+        if (!(std::abs(glm::dot(na, nb)) >= kParallelCosine))
+            return false;
+        const std::array<DVec3, 3> ca = corners(a), cb = corners(b);
+        const double tolerance = kRelativePlaneTolerance * std::max(magnitude(ca), magnitude(cb));
+        for (int v = 0; v < 3; ++v) {
+            if (std::abs(glm::dot(na, cb[v] - ca[0])) > tolerance ||
+                std::abs(glm::dot(nb, ca[v] - cb[0])) > tolerance)
+                return false;
+        }
+        return overlapInPlane(ca, cb, na, std::max(longestEdge(ca), longestEdge(cb)));
+    };
+    // Sweep and prune along x: `active` holds the patches whose boxes may still reach the next.
+    std::vector<int> active;
+    for (const int p : order) {
+        const Box& b = boxes[static_cast<size_t>(p)];
+        const float slack = static_cast<float>(kRelativePlaneTolerance) *
+                            glm::max(glm::max(glm::abs(b.lo.x), glm::abs(b.hi.x)), 1.0f);
+        std::erase_if(active,
+                      [&](int q) { return boxes[static_cast<size_t>(q)].hi.x < b.lo.x - slack; });
+        for (const int q : active) {
+            const Box& o = boxes[static_cast<size_t>(q)];
+            const Vec3 pad(slack);
+            if (glm::any(glm::lessThan(o.hi + pad, b.lo)) ||
+                glm::any(glm::lessThan(b.hi + pad, o.lo)) || !coincident(p, q))
+                continue;
+            const int winner = wins(p, q) ? p : q, loser = winner == p ? q : p;
+            winners_[static_cast<size_t>(loser)].push_back(
+                {winner, mesh.corners(winner), mesh.normal(winner)});
+        }
+        active.push_back(p);
+    }
+    for (int p = 0; p < n; ++p) {
+        if (!winners_[static_cast<size_t>(p)].empty()) {
+            ++losingPatches_;
+            losingArea_ += mesh.area(p);
+        }
+    }
+}
+
+int CoincidentFaces::winnerOver(int patch, const Vec3& p) const {
+    const float magnitude = glm::max(glm::abs(p.x), glm::max(glm::abs(p.y), glm::abs(p.z)));
+    return winnerAt(patch, p, static_cast<float>(kRelativePlaneTolerance) * magnitude);
+}
+
+int CoincidentFaces::winnerAt(int patch, const Vec3& p, float tolerance) const {
+    const DVec3 x = toDouble(p);
+    for (const Winner& w : winners_[static_cast<size_t>(patch)]) {
+        const DVec3 n = toDouble(w.normal);
+        const std::array<DVec3, 3> c{toDouble(w.corners[0]), toDouble(w.corners[1]),
+                                     toDouble(w.corners[2])};
+        if (!(std::abs(glm::dot(n, x - c[0])) <= static_cast<double>(tolerance)))
+            continue;
+        // Inside: on the inner side of each edge, the corners running counter-clockwise about n.
+        bool inside = true;
+        for (int k = 0; k < 3 && inside; ++k)
+            inside = glm::dot(n, glm::cross(c[(k + 1) % 3] - c[k], x - c[k])) >= 0.0;
+        if (inside)
+            return w.patch;
+    }
+    return -1;
+}
+
+}  // namespace penumbra
