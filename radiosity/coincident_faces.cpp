@@ -73,7 +73,7 @@ double longestEdge(const std::array<DVec3, 3>& c) {
 
 }  // namespace
 
-CoincidentFaces::CoincidentFaces(const RadiosityMesh& mesh) : winners_(mesh.patchCount()) {
+CoincidentFaces::CoincidentFaces(const RadiosityMesh& mesh) : covers_(mesh.patchCount()) {
     const int n = static_cast<int>(mesh.patchCount());
     std::vector<Box> boxes(static_cast<size_t>(n));
     for (int p = 0; p < n; ++p)
@@ -88,7 +88,7 @@ CoincidentFaces::CoincidentFaces(const RadiosityMesh& mesh) : winners_(mesh.patc
         return std::array<DVec3, 3>{toDouble(c[0]), toDouble(c[1]), toDouble(c[2])};
     };
     const auto emits = [&](int p) { return maxComponent(mesh.Le(p)) > 0.0f; };
-    // Whether patch a wins over patch b (see the header).
+    // Whether patch a wins over patch b facing the same way (see the header).
     const auto wins = [&](int a, int b) { return emits(a) != emits(b) ? emits(a) : a < b; };
     const auto coincident = [&](int a, int b) {
         if (mesh.sceneMesh(a) == mesh.sceneMesh(b) &&
@@ -108,6 +108,10 @@ CoincidentFaces::CoincidentFaces(const RadiosityMesh& mesh) : winners_(mesh.patc
     };
     // Sweep and prune along x: `active` holds the patches whose boxes may still reach the next.
     std::vector<int> active;
+    const auto cover = [&](int covered, int by, bool front, bool back, bool sameFacing) {
+        covers_[static_cast<size_t>(covered)].push_back(
+            {by, front, back, sameFacing, mesh.corners(by), mesh.normal(by)});
+    };
     for (const int p : order) {
         const Box& b = boxes[static_cast<size_t>(p)];
         const float slack = static_cast<float>(kRelativePlaneTolerance) *
@@ -120,41 +124,50 @@ CoincidentFaces::CoincidentFaces(const RadiosityMesh& mesh) : winners_(mesh.patc
             if (glm::any(glm::lessThan(o.hi + pad, b.lo)) ||
                 glm::any(glm::lessThan(b.hi + pad, o.lo)) || !coincident(p, q))
                 continue;
-            const int winner = wins(p, q) ? p : q, loser = winner == p ? q : p;
-            winners_[static_cast<size_t>(loser)].push_back(
-                {winner, mesh.corners(winner), mesh.normal(winner)});
+            if (glm::dot(mesh.normal(p), mesh.normal(q)) > 0.0f) {
+                const int winner = wins(p, q) ? p : q;
+                cover(winner == p ? q : p, winner, true, true, true);
+            } else {
+                cover(p, q, false, true, false);  // each one's back lies on the other's front
+                cover(q, p, false, true, false);
+            }
         }
         active.push_back(p);
     }
     for (int p = 0; p < n; ++p) {
-        if (!winners_[static_cast<size_t>(p)].empty()) {
-            ++losingPatches_;
-            losingArea_ += mesh.area(p);
+        if (!covers_[static_cast<size_t>(p)].empty()) {
+            ++hiddenPatches_;
+            hiddenArea_ += mesh.area(p);
         }
     }
 }
 
-int CoincidentFaces::winnerOver(int patch, const Vec3& p) const {
+std::optional<CoincidentFaces::Side> CoincidentFaces::replacementAt(int patch, bool front,
+                                                                    const Vec3& p) const {
     const float magnitude = glm::max(glm::abs(p.x), glm::max(glm::abs(p.y), glm::abs(p.z)));
-    return winnerAt(patch, p, static_cast<float>(kRelativePlaneTolerance) * magnitude);
+    return replacement(patch, front, p, static_cast<float>(kRelativePlaneTolerance) * magnitude);
 }
 
-int CoincidentFaces::winnerAt(int patch, const Vec3& p, float tolerance) const {
+std::optional<CoincidentFaces::Side> CoincidentFaces::replacement(int patch, bool front,
+                                                                  const Vec3& p,
+                                                                  float tolerance) const {
     const DVec3 x = toDouble(p);
-    for (const Winner& w : winners_[static_cast<size_t>(patch)]) {
-        const DVec3 n = toDouble(w.normal);
-        const std::array<DVec3, 3> c{toDouble(w.corners[0]), toDouble(w.corners[1]),
-                                     toDouble(w.corners[2])};
-        if (!(std::abs(glm::dot(n, x - c[0])) <= static_cast<double>(tolerance)))
+    for (const Cover& c : covers_[static_cast<size_t>(patch)]) {
+        if (!(front ? c.front : c.back))
+            continue;
+        const DVec3 n = toDouble(c.normal);
+        const std::array<DVec3, 3> v{toDouble(c.corners[0]), toDouble(c.corners[1]),
+                                     toDouble(c.corners[2])};
+        if (!(std::abs(glm::dot(n, x - v[0])) <= static_cast<double>(tolerance)))
             continue;
         // Inside: on the inner side of each edge, the corners running counter-clockwise about n.
         bool inside = true;
         for (int k = 0; k < 3 && inside; ++k)
-            inside = glm::dot(n, glm::cross(c[(k + 1) % 3] - c[k], x - c[k])) >= 0.0;
+            inside = glm::dot(n, glm::cross(v[(k + 1) % 3] - v[k], x - v[k])) >= 0.0;
         if (inside)
-            return w.patch;
+            return Side{c.patch, c.sameFacing ? front : !front};
     }
-    return -1;
+    return std::nullopt;
 }
 
 }  // namespace penumbra

@@ -59,16 +59,16 @@ bool isCovered(const Scene& scene, const RadiosityMesh& mesh, const CoincidentFa
         // Light passes through a transmissive surface, which the mesh does not hold.
         if (!holdsMaterial(material))
             return false;
-        // A face hidden under a coincident one is not there: the probe meets the winner
-        // (coincident_faces.h), which may face it the other way (a box modelled twice, once
-        // wound inwards and once outwards).
+        // A side hidden by a coincident face is not there: the probe meets the side that
+        // replaces it (coincident_faces.h), which may be another face's front (a box modelled
+        // twice, once wound inwards and once outwards).
         bool frontFace = hit->frontFace(w), doubleSided = material.doubleSided;
         const int element = mesh.locate(hit->mesh, hit->triangle, hit->barycentric).element;
         if (element >= 0) {
-            const int winner = coincident.winnerOver(mesh.patch(element), hit->p);
-            if (winner >= 0) {
-                frontFace = glm::dot(mesh.normal(winner), w) < 0.0f;
-                doubleSided = mesh.twoSided(winner);
+            if (const auto side =
+                    coincident.replacementAt(mesh.patch(element), frontFace, hit->p)) {
+                frontFace = side->front;
+                doubleSided = mesh.twoSided(side->patch);
             }
         }
         const bool inside = !frontFace && !doubleSided;
@@ -79,8 +79,9 @@ bool isCovered(const Scene& scene, const RadiosityMesh& mesh, const CoincidentFa
 }
 
 bool hiddenByCoincident(const CoincidentFaces& coincident, const RadiosityMesh& mesh, int element,
-                        const ElementSample& x) {
-    return coincident.hidden(mesh.patch(element), x.p, 2.0f * glm::dot(glm::abs(x.n), x.pError));
+                        bool front, const ElementSample& x) {
+    return coincident.hidden(mesh.patch(element), front, x.p,
+                             2.0f * glm::dot(glm::abs(x.n), x.pError));
 }
 
 std::array<float, 2> exposedFractions(const Scene& scene, const RadiosityMesh& mesh, int element,
@@ -90,10 +91,12 @@ std::array<float, 2> exposedFractions(const Scene& scene, const RadiosityMesh& m
     stratifiedElementSamples(scene, mesh, element, seed, IVec2(element, 0), points);
     std::array<int, 2> exposed{0, 0};
     for (const ElementSample& x : points) {
-        if (hiddenByCoincident(coincident, mesh, element, x))
-            continue;
-        exposed[0] += isCovered(scene, mesh, coincident, x, x.n, gap, rays) ? 0 : 1;
-        exposed[1] += isCovered(scene, mesh, coincident, x, -x.n, gap, rays) ? 0 : 1;
+        for (const bool front : {true, false}) {
+            const bool covered =
+                hiddenByCoincident(coincident, mesh, element, front, x) ||
+                isCovered(scene, mesh, coincident, x, front ? x.n : -x.n, gap, rays);
+            exposed[front ? 0 : 1] += covered ? 0 : 1;
+        }
     }
     return {static_cast<float>(exposed[0]) / static_cast<float>(samples),
             static_cast<float>(exposed[1]) / static_cast<float>(samples)};
@@ -120,10 +123,13 @@ PunctualDirect punctualDirect(const Scene& scene, const RadiosityMesh& mesh, int
         sampler.startPixelSample(IVec2(element, 0), static_cast<uint32_t>(k));
         points[k] = sampleElement(scene, mesh, element, sampler.get2D());
     }
-    std::vector<char> hidden(points.size(), 0);
+    std::vector<std::array<bool, 2>> hidden(points.size(), {false, false});
     if (coincident) {
-        for (size_t k = 0; k < points.size(); ++k)
-            hidden[k] = hiddenByCoincident(*coincident, mesh, element, points[k]) ? 1 : 0;
+        for (size_t k = 0; k < points.size(); ++k) {
+            for (const bool front : {true, false})
+                hidden[k][front ? 0 : 1] =
+                    hiddenByCoincident(*coincident, mesh, element, front, points[k]);
+        }
     }
     const std::array<Vec3, 3> corners = mesh.corners(element);
     const double area = mesh.area(element);
@@ -135,8 +141,6 @@ PunctualDirect punctualDirect(const Scene& scene, const RadiosityMesh& mesh, int
         std::optional<Vec3> position;
         for (size_t k = 0; k < points.size(); ++k) {
             const ElementSample& x = points[k];
-            if (hidden[k])
-                continue;
             const LightSampleContext ctx{x.p, x.pError, x.n};
             // A delta light has one direction: the sample point is irrelevant.
             const std::optional<LightLiSample> ls = light->sampleLi(ctx, Vec2(0.5f));
@@ -145,7 +149,7 @@ PunctualDirect punctualDirect(const Scene& scene, const RadiosityMesh& mesh, int
             if (light->kind() != LightKind::Directional)
                 position = ls->pLight;
             const float cosTheta = glm::dot(ls->wi, x.n);
-            if (cosTheta == 0.0f)
+            if (cosTheta == 0.0f || hidden[k][cosTheta > 0.0f ? 0 : 1])
                 continue;
             const Color T =
                 scene.transmittance(x.p, x.pError, x.n, ls->pLight, ls->pLightError, ls->nLight);

@@ -55,20 +55,20 @@ Color meanTransmittance(const Scene& scene, std::span<const ElementSample> a,
 // closed object, as from the floor under a box standing on it). A covered point sees nothing and
 // is seen by nothing. Adds the rays it casts to `rays`: one for most exposed points, five for a
 // covered one.
-// A probe that meets a face hidden under a coincident one (coincident_faces.h) meets the face that
-// wins there instead.
+// A probe that meets a side hidden by a coincident face (coincident_faces.h) meets the side that
+// replaces it instead.
 bool isCovered(const Scene& scene, const RadiosityMesh& mesh, const CoincidentFaces& coincident,
                const ElementSample& x, const Vec3& n, float gap, uint64_t& rays);
 
-// Whether the point x of the element lies under a coincident patch that wins over the element's
-// own (coincident_faces.h). The tolerance is twice the point's ray offset, the distance below
-// which isCovered's probes, which start that far above the surface, cannot see a surface.
+// Whether side `front` of the element is hidden at its point x by a coincident patch
+// (coincident_faces.h). The tolerance is twice the point's ray offset, the distance below which
+// isCovered's probes, which start that far above the surface, cannot see a surface.
 bool hiddenByCoincident(const CoincidentFaces& coincident, const RadiosityMesh& mesh, int element,
-                        const ElementSample& x);
+                        bool front, const ElementSample& x);
 
 // The exposed fraction of each side of an element, [front, back], over `samples` stratified
 // points (stratifiedElementSamples with `seed`, "pixel" (element, 0)): a point is covered on a
-// side when isCovered says so, and on both when it is hidden by a coincident patch.
+// side when isCovered says so or the side is hidden there by a coincident patch.
 std::array<float, 2> exposedFractions(const Scene& scene, const RadiosityMesh& mesh, int element,
                                       int samples, float gap, uint32_t seed,
                                       const CoincidentFaces& coincident, uint64_t& rays);
@@ -87,14 +87,14 @@ struct PunctualDirect {
 };
 
 // Samples `samples` stratified points of the element (seed `seed`, "pixel" (element, 0)) with one
-// shadow ray per light each, but for the points hidden by a coincident patch (if `coincident` is
-// given), which get nothing: E = I cos(theta) T / d² for point and spot lights, E_perp cos(theta)
-// T for directional ones (pbrt-v4's direct lighting for delta lights), T the transmittance of
-// the shadow ray. A directional light's D is the mean of E over the points; a point or spot
-// light's is Omega / A times the mean of E over the points weighted to solid angle, Omega the
-// exact solid angle the element subtends at the light, so that it is exact for an unshadowed
-// isotropic light however close and however large the element. Costs samples * lights.size()
-// rays. samples >= 1.
+// shadow ray per light each, but for the sides of points hidden by a coincident patch (if
+// `coincident` is given), which get nothing: E = I cos(theta) T / d² for point and spot lights,
+// E_perp cos(theta) T for directional ones (pbrt-v4's direct lighting for delta lights), T the
+// transmittance of the shadow ray. A directional light's D is the mean of E over the points; a
+// point or spot light's is Omega / A times the mean of E over the points weighted to solid angle,
+// Omega the exact solid angle the element subtends at the light, so that it is exact for an
+// unshadowed isotropic light however close and however large the element. Costs samples *
+// lights.size() rays. samples >= 1.
 PunctualDirect punctualDirect(const Scene& scene, const RadiosityMesh& mesh, int element,
                               std::span<const Light* const> lights, int samples, uint32_t seed,
                               const CoincidentFaces* coincident);

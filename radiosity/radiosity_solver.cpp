@@ -113,8 +113,8 @@ constexpr float kRelativeFloor = 0.1f;
 // and an element) close together are linked rather than split (clusterKernel).
 constexpr float kClusterMinRadius = 2.0f;
 
-// Hops from a wholly hidden leaf to the winner of its coincident patch at most (shownValues):
-// three stacked copies of a face take two.
+// Hops from a wholly hidden leaf side to the side that replaces it at most (shownValues): three
+// stacked copies of a face take two.
 constexpr int kMaxCoincidentHops = 4;
 
 }  // namespace
@@ -273,7 +273,7 @@ float RadiositySolver::coveringGap(int e) const {
 }
 
 bool RadiositySolver::covered(int e, const ElementSample& x, const Vec3& n, uint64_t& rays) const {
-    return hiddenByCoincident(coincident_, mesh_, e, x) ||
+    return hiddenByCoincident(coincident_, mesh_, e, glm::dot(n, x.n) > 0.0f, x) ||
            isCovered(scene_, mesh_, coincident_, x, n, coveringGap(e), rays);
 }
 
@@ -1810,7 +1810,7 @@ std::function<Color(int, bool)> RadiositySolver::shownValues(
         }
     }
     return [this, mean = std::move(mean)](int e, bool side) {
-        // A chain of stacked copies has a winner at its end; kMaxCoincidentHops bounds the walk.
+        // A chain of stacked copies ends at the side that wins; kMaxCoincidentHops bounds the walk.
         for (int hop = 0; hop < kMaxCoincidentHops && !(exposure_[node(e, side)] > 0.0f); ++hop) {
             const std::optional<std::pair<int, bool>> instead = shownInstead(e, side);
             if (!instead)
@@ -1825,12 +1825,13 @@ std::function<Color(int, bool)> RadiositySolver::shownValues(
 
 std::optional<std::pair<int, bool>> RadiositySolver::shownInstead(int e, bool front) const {
     const Vec3 centroid = mesh_.centroid(e);
-    const int winner = coincident_.winnerOver(mesh_.patch(e), centroid);
-    if (winner < 0)
+    const std::optional<CoincidentFaces::Side> side =
+        coincident_.replacementAt(mesh_.patch(e), front, centroid);
+    if (!side)
         return std::nullopt;
-    // Down the winner's quadtree to the leaf under the centroid: the child whose smallest
-    // barycentric coordinate of the point is largest (the one containing it, robustly).
-    int leaf = winner;
+    // Down the replacing patch's quadtree to the leaf under the centroid: the child whose
+    // smallest barycentric coordinate of the point is largest (the one containing it, robustly).
+    int leaf = side->patch;
     while (!mesh_.isLeaf(leaf)) {
         const int first = mesh_.firstChild(leaf);
         float best = -std::numeric_limits<float>::infinity();
@@ -1851,8 +1852,7 @@ std::optional<std::pair<int, bool>> RadiositySolver::shownInstead(int e, bool fr
             }
         }
     }
-    const bool sameFacing = glm::dot(mesh_.normal(winner), mesh_.normal(e)) > 0.0f;
-    return std::pair<int, bool>{leaf, sameFacing ? front : !front};
+    return std::pair<int, bool>{leaf, side->front};
 }
 
 void RadiositySolver::computeVertexValues() {
@@ -2103,8 +2103,8 @@ PassStats RadiositySolver::stats() const {
             {"leaves", std::to_string(mesh.leaves)},
             {"clusters", std::to_string(clusters_ ? clusters_->size() : 0)},
             {"sealed_solids", std::to_string(sealed_.count())},
-            {"coincident_patches", std::to_string(coincident_.losingPatches())},
-            {"coincident_area_m2", formatStat(coincident_.losingArea())},
+            {"coincident_patches", std::to_string(coincident_.hiddenPatches())},
+            {"coincident_area_m2", formatStat(coincident_.hiddenArea())},
             {"links", std::to_string(links)},
             {"refinement_rounds", std::to_string(rounds_)},
             {"refined_links", std::to_string(refinedLinks_)},

@@ -37,9 +37,9 @@
 // covered side has L = Le and no links. The inner sides of closed solids with no light inside
 // (sealed_interiors.h: stair treads, table tops modelled as boxes) are wholly covered whatever
 // the probes find. A cluster's points take part in a link's visible fraction only through the
-// side of their patch that faces the other end, when that side is exposed (visibility()). A face
-// lying on another in the same plane (coincident_faces.h) is covered on both sides where it
-// loses to the other, and shows the winner's light there.
+// side of their patch that faces the other end, when that side is exposed (visibility()). Where
+// two faces lie on each other in the same plane (coincident_faces.h), each side of the surface
+// belongs to one of them: the other's side there is covered and shows its light.
 //
 // Clustering: above RadiositySettings::clusterMinPatches patches, the patches are grouped in a
 // bounding-volume hierarchy of clusters (cluster_tree.h) and links may also join a cluster to a
@@ -261,7 +261,7 @@ class RadiositySolver : public RadiositySolution {
     // coincident patch (coincident_faces.h) or covered by a surface within the gap (isCovered,
     // element_sampling.h). Adds the rays it casts to `rays`.
     bool covered(int element, const ElementSample& x, const Vec3& n, uint64_t& rays) const;
-    // For a leaf side wholly hidden by a coincident patch: the leaf side of the winning patch
+    // For a leaf side wholly hidden by a coincident patch: the leaf side of the replacing patch
     // under the leaf's centroid, whose light the hidden one shows (shownValues).
     std::optional<std::pair<int, bool>> shownInstead(int element, bool front) const;
     // Whether the node is a cluster or an element side not wholly covered.
