@@ -27,8 +27,11 @@ Steps (linear EXR images, in --workdir):
      (test - ref)^2 / (ref^2 + 0.01) (the same formula as the peers' imgdiff.py), and
      relMSE x seconds, the time-normalised error (an unbiased estimator's relMSE falls as
      1 / samples, so this product compares renderers even when their times differ; lower is
-     better; a biased pipeline's product grows once its bias dominates). A table of every run,
-     then one of the medians over the repeats.
+     better; a biased pipeline's product grows once its bias dominates). With a converged
+     Cycles image, also the relMSE against it: for the Cycles runs, their noise alone, without
+     the difference between the two renderers' materials (which the reference comparison
+     counts as error once Cycles' noise falls below it). A table of every run, then one of the
+     medians over the repeats.
 
 Timings: penumbra's is the whole pipeline as its EXR records it (`penumbra:seconds`: every pass,
 the radiosity solve and the photon map included, and the ~0.1 s of scene loading); Cycles' is
@@ -125,7 +128,8 @@ def reference_image(a, w):
 
 
 def compare_converged(a, w, ref):
-    """Step 2: the per-channel mean ratio of a converged Cycles image to the reference."""
+    """Step 2: the per-channel mean ratio of a converged Cycles image to the reference; returns
+    the image."""
     path = w("cycles_%dpx_%dspp.exr" % (a.size, a.cycles_converged_spp))
     if not os.path.exists(path):
         info = run_cycles(a, path, a.cycles_converged_spp, REF_SEED)
@@ -136,10 +140,12 @@ def compare_converged(a, w, ref):
     print("converged Cycles (%d spp): mean RGB %s, ratio to reference R G B %s, relMSE %.3g"
           % (a.cycles_converged_spp, np.round(channel_means(image), 6),
              np.round(channel_ratios(image, ref), 5), relmse(image, ref)), flush=True)
+    return image
 
 
-def equal_time_runs(a, w, ref):
-    """Steps 3 to 5: every renderer at every budget, alternately; one row per render."""
+def equal_time_runs(a, w, ref, converged):
+    """Steps 3 to 5: every renderer at every budget, alternately; one row per render.
+    converged: the converged Cycles image, or None."""
     n = a.calibration_spp
     per_spp = run_cycles(a, w("cycles_cal_%dpx_%d.exr" % (a.size, n)), n, TEST_SEED)["seconds"] / n
     print("Cycles calibration: %d spp, %.4f s/spp" % (n, per_spp), flush=True)
@@ -156,7 +162,9 @@ def equal_time_runs(a, w, ref):
                 image = load(out)[0]
                 rows.append({"budget": budget, "renderer": renderer, "repeat": repeat,
                              "spp": info["spp"], "seconds": info["seconds"],
-                             "relmse": relmse(image, ref), "ratios": channel_ratios(image, ref)})
+                             "relmse": relmse(image, ref), "ratios": channel_ratios(image, ref),
+                             "relmse_cycles": (relmse(image, converged)
+                                               if converged is not None else float("nan"))})
                 print("budget %(budget)g s, %(renderer)s: %(spp)d spp, %(seconds).2f s, "
                       "relMSE %(relmse).4g" % rows[-1], flush=True)
     return rows
@@ -164,25 +172,28 @@ def equal_time_runs(a, w, ref):
 
 def print_tables(rows):
     print("\n| budget (s) | renderer | run | spp | seconds | relMSE | relMSE x s | "
-          "mean ratio R, G, B |")
-    print("| --- | --- | --- | --- | --- | --- | --- | --- |")
+          "mean ratio R, G, B | relMSE against converged Cycles |")
+    print("| --- | --- | --- | --- | --- | --- | --- | --- | --- |")
     for r in rows:
-        print("| %g | %s | %d | %d | %.2f | %.4g | %.4g | %s |" % (
+        print("| %g | %s | %d | %d | %.2f | %.4g | %.4g | %s | %.4g |" % (
             r["budget"], r["renderer"], r["repeat"], r["spp"], r["seconds"], r["relmse"],
-            r["relmse"] * r["seconds"], ", ".join("%.4f" % x for x in r["ratios"])))
+            r["relmse"] * r["seconds"], ", ".join("%.4f" % x for x in r["ratios"]),
+            r["relmse_cycles"]))
 
     print("\nMedians over the repeats:\n")
-    print("| budget (s) | renderer | spp (runs) | seconds (runs) | relMSE | relMSE x s |")
-    print("| --- | --- | --- | --- | --- | --- |")
+    print("| budget (s) | renderer | spp (runs) | seconds (runs) | relMSE | relMSE x s | "
+          "relMSE against converged Cycles |")
+    print("| --- | --- | --- | --- | --- | --- | --- |")
     groups = {}
     for r in rows:
         groups.setdefault((r["budget"], r["renderer"]), []).append(r)
     for (budget, renderer), runs in groups.items():
-        print("| %g | %s | %s | %s | %.3g | %.3g |" % (
+        print("| %g | %s | %s | %s | %.3g | %.3g | %.3g |" % (
             budget, renderer, ", ".join(str(r["spp"]) for r in runs),
             ", ".join("%.2f" % r["seconds"] for r in runs),
             statistics.median(r["relmse"] for r in runs),
-            statistics.median(r["relmse"] * r["seconds"] for r in runs)))
+            statistics.median(r["relmse"] * r["seconds"] for r in runs),
+            statistics.median(r["relmse_cycles"] for r in runs)))
 
 
 def main():
@@ -213,9 +224,8 @@ def main():
     w = lambda name: os.path.join(a.workdir, name)  # noqa: E731
 
     ref = reference_image(a, w)
-    if a.cycles_converged_spp > 0:
-        compare_converged(a, w, ref)
-    print_tables(equal_time_runs(a, w, ref))
+    converged = compare_converged(a, w, ref) if a.cycles_converged_spp > 0 else None
+    print_tables(equal_time_runs(a, w, ref, converged))
 
 
 if __name__ == "__main__":
