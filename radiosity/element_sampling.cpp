@@ -59,9 +59,12 @@ bool isCovered(const Scene& scene, const RadiosityMesh& mesh, const CoincidentFa
         // Light passes through a transmissive surface, which the mesh does not hold.
         if (!holdsMaterial(material))
             return false;
-        // A side hidden by a coincident face is not there: the probe meets the side that
-        // replaces it (coincident_faces.h), which may be another face's front (a box modelled
-        // twice, once wound inwards and once outwards).
+        if (hit->t < gap)
+            continue;
+        // Farther, only from inside a closed object: the probe meets a one-sided back. A side
+        // hidden by a coincident face is not there: the probe meets the side that replaces it
+        // (coincident_faces.h), which may be another face's front (a box modelled twice, once
+        // wound inwards and once outwards).
         bool frontFace = hit->frontFace(w), doubleSided = material.doubleSided;
         const int element = mesh.locate(hit->mesh, hit->triangle, hit->barycentric).element;
         if (element >= 0) {
@@ -71,8 +74,7 @@ bool isCovered(const Scene& scene, const RadiosityMesh& mesh, const CoincidentFa
                 doubleSided = mesh.twoSided(side->patch);
             }
         }
-        const bool inside = !frontFace && !doubleSided;
-        if (!(hit->t < gap || inside))
+        if (frontFace || doubleSided)
             return false;
     }
     return true;

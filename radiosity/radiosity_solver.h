@@ -261,9 +261,10 @@ class RadiositySolver : public RadiositySolution {
     // coincident patch (coincident_faces.h) or covered by a surface within the gap (isCovered,
     // element_sampling.h). Adds the rays it casts to `rays`.
     bool covered(int element, const ElementSample& x, const Vec3& n, uint64_t& rays) const;
-    // For a leaf side wholly hidden by a coincident patch: the leaf side of the replacing patch
-    // under the leaf's centroid, whose light the hidden one shows (shownValues).
-    std::optional<std::pair<int, bool>> shownInstead(int element, bool front) const;
+    // The leaf side whose light a leaf side shows: itself, or where it is wholly hidden by a
+    // coincident patch, the replacing patch's leaf side under its centroid (shownValues,
+    // radiance()).
+    std::pair<int, bool> shownSide(int element, bool front) const;
     // Whether the node is a cluster or an element side not wholly covered.
     bool exposed(int node) const;
     // Whether the node is an element side with an exposed fraction strictly between 0 and 1.
