@@ -1,5 +1,6 @@
 #include "radiosity/coincident_faces.h"
 
+#include "core/scene.h"
 #include "radiosity/radiosity_mesh.h"
 
 #include <algorithm>
@@ -21,6 +22,9 @@ constexpr double kRelativePlaneTolerance = 1e-5;
 // Two triangles whose projections overlap by less than this fraction of their size only touch
 // (neighbours in one plane share edges).
 constexpr double kRelativeTouch = 1e-6;
+// Hops from a hidden leaf side to the side that replaces it at most (shownLeafSide): three
+// stacked copies of a face take two.
+constexpr int kMaxCoincidentHops = 4;
 
 struct Box {
     Vec3 lo, hi;
@@ -168,6 +172,35 @@ std::optional<CoincidentFaces::Side> CoincidentFaces::replacement(int patch, boo
             return Side{c.patch, c.sameFacing ? front : !front};
     }
     return std::nullopt;
+}
+
+std::pair<int, bool> shownLeafSide(const Scene& scene, const RadiosityMesh& mesh,
+                                   const CoincidentFaces& coincident, int e, bool front,
+                                   const std::function<bool(int element, bool front)>& exposed) {
+    // A chain of stacked copies ends at the side that wins; kMaxCoincidentHops bounds the walk.
+    for (int hop = 0; hop < kMaxCoincidentHops && !exposed(e, front); ++hop) {
+        const Vec3 centroid = mesh.centroid(e);
+        const std::optional<CoincidentFaces::Side> side =
+            coincident.replacementAt(mesh.patch(e), front, centroid);
+        if (!side)
+            break;
+        // The replacing patch's leaf under the centroid, by the centroid's barycentric
+        // coordinates in the patch's scene triangle.
+        const uint32_t m = mesh.sceneMesh(side->patch), t = mesh.sceneTriangle(side->patch);
+        const Mesh& sceneMesh = scene.meshes()[m];
+        const glm::uvec3 v = sceneMesh.triangles[t];
+        const Vec3 &p0 = sceneMesh.positions[v.x], &p1 = sceneMesh.positions[v.y],
+                   &p2 = sceneMesh.positions[v.z];
+        const Vec3 n = glm::cross(p1 - p0, p2 - p0);
+        const float b1 = glm::dot(glm::cross(centroid - p0, p2 - p0), n) / glm::dot(n, n);
+        const float b2 = glm::dot(glm::cross(p1 - p0, centroid - p0), n) / glm::dot(n, n);
+        const int leaf = mesh.locate(m, t, Vec3(1.0f - b1 - b2, b1, b2)).element;
+        if (leaf < 0)
+            break;
+        e = leaf;
+        front = side->front;
+    }
+    return {e, front};
 }
 
 }  // namespace penumbra

@@ -15,8 +15,8 @@
 //  - two faces facing opposite ways (back to back): each keeps its front, and its back, which
 //    lies on the other's front, is hidden (a two-sided lamp made of two one-sided emitters
 //    emits both ways, as in the path tracer).
-// The solver treats a hidden side's points as covered (neither sending nor receiving), and shows
-// the light of the side that replaces it.
+// The solvers treat a hidden side's points as covered (neither sending nor receiving), and show
+// the light of the side that replaces it (shownLeafSide below).
 //
 // Coincident: the normals are parallel or opposite (within about 0.25 degrees) and every corner
 // of each lies within a small tolerance of the other's plane (relative to the coordinates'
@@ -27,12 +27,15 @@
 
 #include <array>
 #include <cstddef>
+#include <functional>
 #include <optional>
+#include <utility>
 #include <vector>
 
 namespace penumbra {
 
 class RadiosityMesh;
+class Scene;
 
 class CoincidentFaces {
   public:
@@ -74,5 +77,15 @@ class CoincidentFaces {
     size_t hiddenPatches_ = 0;
     double hiddenArea_ = 0.0;
 };
+
+// The leaf side whose light the leaf side (element, front) shows: itself where `exposed` says so;
+// else, where a coincident patch hides it at its centroid (replacementAt), the replacing patch's
+// leaf under that centroid (by the centroid's barycentric coordinates in that patch's scene
+// triangle, RadiosityMesh::locate) on the replacing side, and so on along a chain of stacked
+// copies, at most four hops (three copies of a face take two). The walk stops at a side that is
+// not hidden at its centroid, or where the replacing patch has no leaf.
+std::pair<int, bool> shownLeafSide(const Scene& scene, const RadiosityMesh& mesh,
+                                   const CoincidentFaces& coincident, int element, bool front,
+                                   const std::function<bool(int element, bool front)>& exposed);
 
 }  // namespace penumbra

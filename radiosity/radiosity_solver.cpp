@@ -113,10 +113,6 @@ constexpr float kRelativeFloor = 0.1f;
 // and an element) close together are linked rather than split (clusterKernel).
 constexpr float kClusterMinRadius = 2.0f;
 
-// Hops from a wholly hidden leaf side to the side that replaces it at most (shownValues): three
-// stacked copies of a face take two.
-constexpr int kMaxCoincidentHops = 4;
-
 }  // namespace
 
 MeshingSettings RadiositySettings::meshing(const Scene& scene) const {
@@ -1819,30 +1815,9 @@ std::function<Color(int, bool)> RadiositySolver::shownValues(
 }
 
 std::pair<int, bool> RadiositySolver::shownSide(int e, bool front) const {
-    // A chain of stacked copies ends at the side that wins; kMaxCoincidentHops bounds the walk.
-    for (int hop = 0; hop < kMaxCoincidentHops && !(exposure_[node(e, front)] > 0.0f); ++hop) {
-        const Vec3 centroid = mesh_.centroid(e);
-        const std::optional<CoincidentFaces::Side> side =
-            coincident_.replacementAt(mesh_.patch(e), front, centroid);
-        if (!side)
-            break;
-        // The replacing patch's leaf under the centroid, by the centroid's barycentric
-        // coordinates in the patch's scene triangle.
-        const uint32_t m = mesh_.sceneMesh(side->patch), t = mesh_.sceneTriangle(side->patch);
-        const Mesh& sceneMesh = scene_.meshes()[m];
-        const glm::uvec3 v = sceneMesh.triangles[t];
-        const Vec3 &p0 = sceneMesh.positions[v.x], &p1 = sceneMesh.positions[v.y],
-                   &p2 = sceneMesh.positions[v.z];
-        const Vec3 n = glm::cross(p1 - p0, p2 - p0);
-        const float b1 = glm::dot(glm::cross(centroid - p0, p2 - p0), n) / glm::dot(n, n);
-        const float b2 = glm::dot(glm::cross(p1 - p0, centroid - p0), n) / glm::dot(n, n);
-        const int leaf = mesh_.locate(m, t, Vec3(1.0f - b1 - b2, b1, b2)).element;
-        if (leaf < 0)
-            break;
-        e = leaf;
-        front = side->front;
-    }
-    return {e, front};
+    return shownLeafSide(scene_, mesh_, coincident_, e, front, [this](int leaf, bool side) {
+        return exposure_[node(leaf, side)] > 0.0f;
+    });
 }
 
 void RadiositySolver::computeVertexValues() {

@@ -262,8 +262,8 @@ class RadiositySolver : public RadiositySolution {
     // element_sampling.h). Adds the rays it casts to `rays`.
     bool covered(int element, const ElementSample& x, const Vec3& n, uint64_t& rays) const;
     // The leaf side whose light a leaf side shows: itself, or where it is wholly hidden by a
-    // coincident patch, the replacing patch's leaf side under its centroid (shownValues,
-    // radiance()).
+    // coincident patch, the replacing patch's leaf side under its centroid (shownLeafSide,
+    // coincident_faces.h; for shownValues and radiance()).
     std::pair<int, bool> shownSide(int element, bool front) const;
     // Whether the node is a cluster or an element side not wholly covered.
     bool exposed(int node) const;
