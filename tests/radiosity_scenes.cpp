@@ -25,6 +25,44 @@ void addClosedBox(GltfBuilder& scene, int walls, int floor, float h) {
     scene.addQuad(c[3], c[2], c[6], c[7], walls);  // y = +h, faces -y
 }
 
+std::unique_ptr<Scene> doubledFurnaceBox(float rho, bool flipped, const std::string& name) {
+    GltfBuilder builder;
+    const int wall = builder.addMaterial(
+        {.baseColor = Color(rho), .emissive = Color(1.0f), .emissiveStrength = 1.0f});
+    addClosedBox(builder, wall, wall);
+    const float h = 1.0f;
+    const Vec3 c[8] = {{-h, -h, -h}, {h, -h, -h}, {h, h, -h}, {-h, h, -h},
+                       {-h, -h, h},  {h, -h, h},  {h, h, h},  {-h, h, h}};
+    // addClosedBox's quads, starting at their second corner (the other diagonal), or reversed.
+    const int quads[6][4] = {{0, 1, 2, 3}, {5, 4, 7, 6}, {4, 0, 3, 7},
+                             {1, 5, 6, 2}, {4, 5, 1, 0}, {3, 2, 6, 7}};
+    for (const auto& q : quads) {
+        if (flipped)
+            builder.addQuad(c[q[3]], c[q[2]], c[q[1]], c[q[0]], wall);
+        else
+            builder.addQuad(c[q[1]], c[q[2]], c[q[3]], c[q[0]], wall);
+    }
+    return loadBuiltScene(builder, name);
+}
+
+double worstInsideError(
+    const Scene& scene, double expected,
+    const std::function<Color(uint32_t mesh, uint32_t triangle, Vec3 b, bool front)>& radiance) {
+    double worst = 0.0;
+    for (uint32_t m = 0; m < scene.meshes().size(); ++m) {
+        for (uint32_t t = 0; t < scene.meshes()[m].triangles.size(); ++t) {
+            for (const Vec3& b : {Vec3(1.0f / 3.0f), Vec3(0.6f, 0.2f, 0.2f), Vec3(0.2f, 0.6f, 0.2f),
+                                  Vec3(0.2f, 0.2f, 0.6f)}) {
+                const SurfaceHit x = scene.surfaceAt(m, t, b);
+                const bool front = glm::dot(x.ng, -x.p) > 0.0f;  // the side facing the origin
+                const Color L = radiance(m, t, b, front);
+                worst = std::max(worst, std::abs(L.g / expected - 1.0));
+            }
+        }
+    }
+    return worst;
+}
+
 void addCeilingLight(GltfBuilder& scene, float s, float y, float Le) {
     const int light = scene.addMaterial(
         {.baseColor = Color(0.0f), .emissive = Color(1.0f), .emissiveStrength = Le});

@@ -23,6 +23,20 @@ std::unique_ptr<Scene> loadBuiltScene(const GltfBuilder& builder, const std::str
 // material of the face y = -h, the others `walls`.
 void addClosedBox(GltfBuilder& scene, int walls, int floor, float h = 1.0f);
 
+// The closed furnace box with every wall twice, in the same place (radiosity/coincident_faces.h):
+// addClosedBox's six quads (h = 1), one material emitting Le = 1 and reflecting rho, then the same
+// quads again, split along the other diagonal (each of the second box's triangles lies over parts
+// of two of the first's) or, if `flipped`, wound the other way (facing outward). Built and loaded
+// as loadBuiltScene() does.
+std::unique_ptr<Scene> doubledFurnaceBox(float rho, bool flipped, const std::string& name);
+
+// The largest relative error |L.g / expected - 1| of radiance(mesh, triangle, b, front) over four
+// points inside every triangle of the scene, on the side facing the origin (the inside of a box
+// around it).
+double worstInsideError(
+    const Scene& scene, double expected,
+    const std::function<Color(uint32_t mesh, uint32_t triangle, Vec3 b, bool front)>& radiance);
+
 // A square emitter of side 2s centred at height y, facing down (counter-clockwise from below),
 // emitting Le cd/m², reflecting nothing.
 void addCeilingLight(GltfBuilder& scene, float s, float y, float Le);

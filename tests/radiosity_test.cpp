@@ -184,41 +184,17 @@ TEST(ClosedFurnaceBox, CountsCoincidentWallsOnce) {
     // counted once (coincident_faces.h), every point inside shows Le / (1 - rho) = 10, the second
     // box's too, whose hidden sides show the first's light.
     for (const bool flipped : {false, true}) {
-        GltfBuilder builder;
-        const int wall = builder.addMaterial(
-            {.baseColor = Color(0.9f), .emissive = Color(1.0f), .emissiveStrength = 1.0f});
-        addClosedBox(builder, wall, wall);
-        const float h = 1.0f;
-        const Vec3 c[8] = {{-h, -h, -h}, {h, -h, -h}, {h, h, -h}, {-h, h, -h},
-                           {-h, -h, h},  {h, -h, h},  {h, h, h},  {-h, h, h}};
-        // addClosedBox's quads, starting at their second corner (the other diagonal), or reversed.
-        const int quads[6][4] = {{0, 1, 2, 3}, {5, 4, 7, 6}, {4, 0, 3, 7},
-                                 {1, 5, 6, 2}, {4, 5, 1, 0}, {3, 2, 6, 7}};
-        for (const auto& q : quads) {
-            if (flipped)
-                builder.addQuad(c[q[3]], c[q[2]], c[q[1]], c[q[0]], wall);
-            else
-                builder.addQuad(c[q[1]], c[q[2]], c[q[3]], c[q[0]], wall);
-        }
-        const auto scene = loadBuiltScene(builder, "radiosity-doubled-furnace");
+        const auto scene = doubledFurnaceBox(0.9f, flipped, "radiosity-doubled-furnace");
         RadiositySettings settings;
         settings.minElementArea = 0.5f / 4.0f;  // one level below the patches: quick
         RadiosityMesh mesh(*scene, settings.meshing(*scene));
         RadiositySolver solver(*scene, mesh, settings);
         solver.solve();
         EXPECT_TRUE(solver.converged()) << "flipped " << flipped;
-        double worst = 0.0;
-        for (uint32_t m = 0; m < scene->meshes().size(); ++m) {
-            for (uint32_t t = 0; t < scene->meshes()[m].triangles.size(); ++t) {
-                for (const Vec3& b : {Vec3(1.0f / 3.0f), Vec3(0.6f, 0.2f, 0.2f),
-                                      Vec3(0.2f, 0.6f, 0.2f), Vec3(0.2f, 0.2f, 0.6f)}) {
-                    const SurfaceHit x = scene->surfaceAt(m, t, b);
-                    const bool front = glm::dot(x.ng, -x.p) > 0.0f;  // the side facing inside
-                    const Color L = solver.radiance(m, t, b, true, front);
-                    worst = std::max(worst, std::abs(L.g / 10.0 - 1.0));
-                }
-            }
-        }
+        const double worst =
+            worstInsideError(*scene, 10.0, [&](uint32_t m, uint32_t t, Vec3 b, bool front) {
+                return solver.radiance(m, t, b, true, front);
+            });
         std::string losing;
         for (const auto& [key, value] : solver.stats()) {
             if (key == "coincident_patches")
