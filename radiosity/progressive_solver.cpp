@@ -31,6 +31,7 @@
 #include <chrono>
 #include <cmath>
 #include <sstream>
+#include <tuple>
 
 namespace penumbra {
 
@@ -103,7 +104,7 @@ void validateProgressiveSettings(const ProgressiveSettings& s) {
 
 ProgressiveSolver::ProgressiveSolver(const Scene& scene, RadiosityMesh& mesh,
                                      const ProgressiveSettings& settings, SolveProgress* progress)
-    : scene_(scene), mesh_(mesh), settings_(settings) {
+    : scene_(scene), mesh_(mesh), settings_(settings), coincident_(mesh) {
     validateProgressiveSettings(settings_);
     const auto start = std::chrono::steady_clock::now();
     splitToReceiverLevel();
@@ -113,7 +114,14 @@ ProgressiveSolver::ProgressiveSolver(const Scene& scene, RadiosityMesh& mesh,
 }
 
 Color ProgressiveSolver::emission(int element, bool front) const {
+    if (hidden(element, front))
+        return Color(0.0f);
     return front || mesh_.twoSided(element) ? mesh_.Le(element) : Color(0.0f);
+}
+
+std::pair<int, bool> ProgressiveSolver::shownSide(int element, bool front) const {
+    return shownLeafSide(scene_, mesh_, coincident_, element, front,
+                         [this](int leaf, bool side) { return !hidden(leaf, side); });
 }
 
 // Substructuring: every patch split uniformly to the first level whose elements are no larger
@@ -159,11 +167,24 @@ void ProgressiveSolver::splitToReceiverLevel() {
     direct_.assign(nodes, Color(0.0f));
     patchUnshot_.assign(2 * mesh_.patchCount(), Color(0.0f));
 
-    // The ambient term's constants: R / sum A with R = 1 / (1 - rho_avg) per channel.
+    // The receiver sides that a coincident face hides at their centroid (coincident_faces.h): the
+    // side that replaces them there receives, emits and shoots for them.
+    hidden_.assign(nodes, 0);
+    for (const int r : receivers_) {
+        for (const bool front : {true, false}) {
+            hidden_[node(r, front)] =
+                coincident_.replacementAt(mesh_.patch(r), front, mesh_.centroid(r)) ? 1 : 0;
+        }
+    }
+
+    // The ambient term's constants: R / sum A with R = 1 / (1 - rho_avg) per channel, each
+    // element's area counted once, half of it per side that is not hidden (a doubled wall once).
     Color rhoArea(0.0f);
     for (const int r : receivers_) {
-        receiverArea_ += mesh_.area(r);
-        rhoArea += mesh_.area(r) * mesh_.rho(r);
+        const int sides = (hidden(r, true) ? 0 : 1) + (hidden(r, false) ? 0 : 1);
+        const float area = 0.5f * static_cast<float>(sides) * mesh_.area(r);
+        receiverArea_ += area;
+        rhoArea += area * mesh_.rho(r);
     }
     if (receiverArea_ > 0.0) {
         const Color rhoAvg =
@@ -176,7 +197,9 @@ void ProgressiveSolver::splitToReceiverLevel() {
 // direct light after one reflection, rho D: the point sources are the first shooters of CCWG88,
 // all shot at once, with their irradiance sampled over each element as
 // RadiositySolver::computeDirect() does (element_sampling.h). rho D is the first part of the
-// direct light (elementDirect); the emission's own first shot adds the rest (shoot).
+// direct light (elementDirect); the emission's own first shot adds the rest (shoot). A hidden
+// side gets nothing; the points of a side hidden elsewhere than at its centroid get nothing
+// either (punctualDirect), as the replacing side gets their light.
 void ProgressiveSolver::shootPunctualLights(SolveProgress* progress) {
     const std::vector<const Light*> lights = punctualLights(scene_);
     const int n = settings_.visibilitySamples;
@@ -185,8 +208,10 @@ void ProgressiveSolver::shootPunctualLights(SolveProgress* progress) {
     parallelForWithProgress(receivers_.size(), lights.empty() ? nullptr : progress, [&](size_t i) {
         const int r = receivers_[i];
         const PunctualDirect direct =
-            punctualDirect(scene_, mesh_, r, lights, n, kDirectSeed, nullptr);
+            punctualDirect(scene_, mesh_, r, lights, n, kDirectSeed, &coincident_);
         for (const bool front : {true, false}) {
+            if (hidden(r, front))
+                continue;
             const int nd = node(r, front);
             direct_[nd] = mesh_.rho(r) * direct.D[front ? 0 : 1];
             unshotLe_[nd] = emission(r, front);
@@ -255,6 +280,8 @@ int ProgressiveSolver::selectShooter() const {
 ProgressiveSolver::Gain ProgressiveSolver::receive(size_t i, bool receiverFront, const Shot& shot,
                                                    uint64_t& rays) {
     const int r = receivers_[i];
+    if (hidden(r, receiverFront))
+        return {};  // the side that replaces it receives for it
     const int shooter = shot.patch;
     const std::array<Vec3, 3> cs = mesh_.corners(shooter);
     const Vec3 ns = shot.front ? mesh_.normal(shooter) : -mesh_.normal(shooter);
@@ -437,11 +464,14 @@ Color ProgressiveSolver::elementIndirect(int e, bool front) const {
 
 void ProgressiveSolver::updateVertexValues() {
     const Color ambientL = settings_.ambient ? ambient() : Color(0.0f);
+    // A hidden side shows the light of the side that replaces it.
     vertexIndirect_.compute(mesh_, [&](int e, bool front) {
+        std::tie(e, front) = shownSide(e, front);
         return elementIndirect(e, front) + mesh_.rho(e) * ambientL;
     });
     // The whole reflected radiance last, so that the mesh is left with its front's values.
     vertexDisplayed_.compute(mesh_, [&](int e, bool front) {
+        std::tie(e, front) = shownSide(e, front);
         return glm::max(L_[node(e, front)] - emission(e, front), Color(0.0f)) +
                mesh_.rho(e) * ambientL;
     });
@@ -453,9 +483,11 @@ Color ProgressiveSolver::radiance(uint32_t mesh, uint32_t triangle, Vec3 b, bool
     if (point.element < 0 || vertexDisplayed_.empty())
         return Color(0.0f);
     Color L = vertexDisplayed_.interpolate(mesh_, point, front);
-    if (includeEmission)
-        L += emission(point.element, front);
-    return L;
+    if (!includeEmission)
+        return L;
+    // A hidden side shows the replacing side's emission too.
+    const auto [e, side] = shownSide(point.element, front);
+    return L + emission(e, side);
 }
 
 Color ProgressiveSolver::indirectRadiance(uint32_t mesh, uint32_t triangle, Vec3 b,
@@ -474,6 +506,8 @@ PassStats ProgressiveSolver::stats() const {
     }
     return {{"patches", std::to_string(mesh_.patchCount())},
             {"elements", std::to_string(receivers_.size())},
+            {"coincident_patches", std::to_string(coincident_.hiddenPatches())},
+            {"coincident_area_m2", formatStat(coincident_.hiddenArea())},
             {"shots", std::to_string(shots_)},
             {"rays", std::to_string(rays_)},
             {"unshot_fraction", formatStat(unshotFraction())},

@@ -13,6 +13,11 @@
 // U rho_max / (1 - rho_max) of reflected flux. The first reflection of the sources (paths L D E)
 // is kept apart for indirectRadiance(): the punctual lights' rho D, and what each patch side's
 // first shot carries of its own emission (an emitter shoots its emission once, in its first shot).
+// Where two faces lie on each other in the same plane (coincident_faces.h), each side of the
+// surface belongs to one of them, as in RadiositySolver: an element side hidden at its centroid by
+// a coincident patch neither receives nor shoots, has no emission of its own (the replacing side
+// carries it: an emitter wins over a non-emitter), and shows the replacing side's light, its
+// emission included (radiance(), indirectRadiance()).
 //
 // Substructuring (Cohen, Greenberg, Immel and Brock 1986, "An Efficient Radiosity Approach for
 // Realistic Image Synthesis"): the shooters are the mesh's patches, each with the unshot radiance
@@ -29,6 +34,7 @@
 
 #include "core/math.h"
 #include "core/pass.h"
+#include "radiosity/coincident_faces.h"
 #include "radiosity/element_sampling.h"
 #include "radiosity/radiosity_mesh.h"
 #include "radiosity/radiosity_solution.h"
@@ -37,6 +43,7 @@
 
 #include <cstdint>
 #include <span>
+#include <utility>
 #include <vector>
 
 namespace penumbra {
@@ -95,7 +102,8 @@ class ProgressiveSolver : public RadiositySolution {
     // Leaves the mesh's setElementValues() at the front side's displayed reflected radiance.
     void updateVertexValues();
     // RadiositySolution: the values of the last updateVertexValues(), with rho times ambient()
-    // added to the reflected part if ProgressiveSettings::ambient. Zero before the first call.
+    // added to the reflected part if ProgressiveSettings::ambient. Zero before the first call. A
+    // side hidden by a coincident face shows the replacing side's light, emission included.
     Color radiance(uint32_t mesh, uint32_t triangle, Vec3 b, bool includeEmission,
                    bool front = true) const override;
     // RadiositySolution: the values of the last updateVertexValues() of elementIndirect(), with
@@ -105,7 +113,8 @@ class ProgressiveSolver : public RadiositySolution {
                            bool front = true) const override;
 
     // The element side's own (flat) radiance received so far, emission included, no ambient
-    // term; zero for an element above the receiver level.
+    // term; zero for an element above the receiver level, and for a side hidden by a coincident
+    // face (its light is the replacing side's), as are the next two.
     Color elementRadiance(int element, bool front = true) const { return L_[node(element, front)]; }
     // Its first reflection of the sources' light so far, rho D plus what each source's first
     // shot of its own emission brought (paths L D E), and the rest of its reflected light,
@@ -118,8 +127,9 @@ class ProgressiveSolver : public RadiositySolution {
     // interreflected with the mean reflectance, R sum_j A_j dL_j / sum_j A_j, with
     // R = 1 / (1 - rho_avg) and rho_avg the area-weighted mean reflectance, per channel. The scene
     // is taken as CCWG88's enclosure of one-sided surfaces: the sums run over both sides' unshot
-    // radiance but count each element's area once. An element side shows L + rho ambient; the
-    // term tends to 0 with the unshot power.
+    // radiance but count each element's area once, half of it for each side that a coincident
+    // face does not hide (a wall modelled twice counts once). An element side shows
+    // L + rho ambient; the term tends to 0 with the unshot power.
     Color ambient() const;
 
     // Luminous flux leaving the element sides, sum of pi A L (lm), the three channels summed.
@@ -133,7 +143,8 @@ class ProgressiveSolver : public RadiositySolution {
     // The leaves receiving the shots, all at their patch's uniform level.
     const std::vector<int>& receivers() const { return receivers_; }
 
-    // patches, elements (receivers), shots, rays, unshot fraction, converged, seconds per stage
+    // patches, elements (receivers), coincident patches (with a side hidden somewhere by a
+    // coincident face) and their area, shots, rays, unshot fraction, converged, seconds per stage
     // (setup: splitting and the punctual lights; shooting) and in all, and the reflected luminous
     // flux (pi sum_i A_i Y(L_i) over receiver sides, lm) of the direct and of the indirect part.
     PassStats stats() const override;
@@ -142,7 +153,14 @@ class ProgressiveSolver : public RadiositySolution {
     // Nodes are element sides, as in RadiositySolver: node 2e is the front of element e, 2e + 1
     // its back.
     static int node(int element, bool front) { return 2 * element + (front ? 0 : 1); }
+    // The element side's own emission: Le on the front, and on the back of a two-sided material;
+    // none on a hidden side.
     Color emission(int element, bool front) const;
+    // Whether a coincident face hides the receiver side at its centroid (hidden_).
+    bool hidden(int element, bool front) const { return hidden_[node(element, front)] != 0; }
+    // The leaf side whose light a receiver side shows: itself, or where it is hidden, the
+    // replacing side's leaf under its centroid (shownLeafSide, coincident_faces.h).
+    std::pair<int, bool> shownSide(int element, bool front) const;
 
     void splitToReceiverLevel();
     void shootPunctualLights(SolveProgress* progress);
@@ -181,12 +199,14 @@ class ProgressiveSolver : public RadiositySolution {
     const Scene& scene_;
     RadiosityMesh& mesh_;
     ProgressiveSettings settings_;
+    CoincidentFaces coincident_;
 
     std::vector<int> receivers_;          // leaves, grouped by patch
     std::vector<size_t> patchReceivers_;  // receivers of patch p: [patchReceivers_[p], [p + 1])
     // visibilitySamples stratified points per receiver, fixed for the whole solution.
     std::vector<ElementSample> receiverSamples_;
     std::vector<float> gainMax_;      // per receiver side: the largest unoccluded gain so far
+    std::vector<uint8_t> hidden_;     // per node of a receiver: hidden at its centroid (1)
     std::vector<Color> L_;            // per node: radiance leaving, emission included
     std::vector<Color> unshot_;       // per node of a receiver: radiance not yet shot
     std::vector<Color> unshotLe_;     // per node of a receiver: emission not yet shot
