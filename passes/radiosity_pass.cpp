@@ -2,17 +2,11 @@
 
 #include "core/material.h"
 #include "core/stats.h"
+#include "radiosity/meshed_hit.h"
 #include "radiosity/solve_progress.h"
 #include "raytrace/tracing_steps.h"
 
 namespace penumbra {
-
-namespace {
-
-// Layers of thin glass a camera ray may pass before it gives up (as Scene::transmittance()).
-constexpr int kMaxTransparentLayers = 64;
-
-}  // namespace
 
 RadiosityPass::RadiosityPass(RadiositySettings settings) : settings_(std::move(settings)) {
     validateRadiositySettings(std::get<RadiositySettings>(settings_));
@@ -62,38 +56,27 @@ void RadiosityPass::prepare(PassContext& context) {
 }
 
 PathRadiance RadiosityPass::Li(Ray ray, FirstHit* firstHit, PathCounters& counters) const {
-    Color beta(1.0f);
     const Vec3 cameraOrigin = ray.o;
-    for (int layer = 0; layer <= kMaxTransparentLayers; ++layer) {
-        ++counters.rays;
-        const std::optional<SurfaceHit> hit = scene_->intersect(ray);
-        if (!hit)
-            return {};
-        const bool front = hit->frontFace(ray.d);
-        if (mesh_->locate(hit->mesh, hit->triangle, hit->barycentric).element >= 0) {
-            if (firstHit && !firstHit->valid)
-                recordFirstHit(*scene_, *hit, scene_->bsdf(*hit), cameraOrigin, firstHit);
-            // The solution's split: its indirect part (L D D+) and the first reflection of the
-            // sources (L D) make up the reflected radiance.
-            const Color total =
-                solution_->radiance(hit->mesh, hit->triangle, hit->barycentric, true, front);
-            const Color reflected =
-                solution_->radiance(hit->mesh, hit->triangle, hit->barycentric, false, front);
-            const Color indirect =
-                solution_->indirectRadiance(hit->mesh, hit->triangle, hit->barycentric, front);
-            PathRadiance L;
-            L[PathComponent::Emission] = beta * (total - reflected);
-            L[PathComponent::Direct] = beta * (reflected - indirect);
-            L[PathComponent::Indirect] = beta * indirect;
-            return L;
-        }
-        // A surface the mesh does not hold (transmissive): only thin glass lets light through.
-        beta *= scene_->straightTransmittance(*hit, scene_->bsdf(*hit), -ray.d);
-        if (maxComponent(beta) <= 0.0f)
-            return {};
-        ray = Scene::spawnRay(*hit, ray.d);
-    }
-    return {};
+    const std::optional<MeshedHit> seen = firstMeshedHit(*scene_, *mesh_, ray, counters.rays);
+    if (!seen)
+        return {};
+    const SurfaceHit& hit = seen->hit;
+    if (firstHit && !firstHit->valid)
+        recordFirstHit(*scene_, hit, scene_->bsdf(hit), cameraOrigin, firstHit);
+    // The solution's split: its indirect part (L D D+) and the first reflection of the sources
+    // (L D) make up the reflected radiance.
+    const Color total =
+        solution_->radiance(hit.mesh, hit.triangle, hit.barycentric, true, seen->front);
+    const Color reflected =
+        solution_->radiance(hit.mesh, hit.triangle, hit.barycentric, false, seen->front);
+    const Color indirect =
+        solution_->indirectRadiance(hit.mesh, hit.triangle, hit.barycentric, seen->front);
+    const Color& beta = seen->transmittance;
+    PathRadiance L;
+    L[PathComponent::Emission] = beta * (total - reflected);
+    L[PathComponent::Direct] = beta * (reflected - indirect);
+    L[PathComponent::Indirect] = beta * indirect;
+    return L;
 }
 
 bool RadiosityPass::run(PassContext& context) {
@@ -143,7 +126,8 @@ PassStats RadiosityPass::parameters() const {
                  {"iteration",
                   h->iteration == RadiositySettings::Iteration::Jacobi ? "jacobi" : "gauss-seidel"},
                  {"cluster_min_patches", std::to_string(h->clusterMinPatches)},
-                 {"subdivision_threshold", formatStat(h->subdivisionThreshold)}};
+                 {"subdivision_threshold", formatStat(h->subdivisionThreshold)},
+                 {"final_gather", std::to_string(h->finalGatherRays)}};
     } else {
         const auto& p = std::get<ProgressiveSettings>(settings_);
         stats = {{"solver", "progressive"},

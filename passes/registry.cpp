@@ -104,6 +104,7 @@ std::unique_ptr<Pass> hierarchicalRadiosityPass(const ScriptTable& p) {
     s.maxRefinements = p.get("max_refinements", s.maxRefinements);
     s.clusterMinPatches = p.get("cluster_min_patches", s.clusterMinPatches);
     s.subdivisionThreshold = p.get("subdivision_threshold", s.subdivisionThreshold);
+    s.finalGatherRays = p.get("final_gather", s.finalGatherRays);
     const std::string iteration = p.get<std::string>("iteration", "gauss-seidel");
     if (iteration == "jacobi") {
         s.iteration = RadiositySettings::Iteration::Jacobi;

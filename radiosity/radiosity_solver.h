@@ -51,6 +51,12 @@
 // weighs its error (flat clusters most): with clusters forced on, the closed furnace box still
 // gives Le / (1 - rho) within 1 % (tests/radiosity_test.cpp), at more links than without;
 // smaller scenes are solved without clusters.
+//
+// Final gather (RadiositySettings::finalGatherRays): after the solve, rays from every leaf side
+// gather the indirect light the solution sends it, and each patch side's mean difference from what
+// its links gathered becomes a correction that the gather sweeps then carry through every bounce
+// (finalGather in radiosity_solver.cpp): the links' transfer error, which clusters make largest,
+// is taken out at the cost of a few rays per leaf.
 #pragma once
 
 #include "core/math.h"
@@ -77,6 +83,7 @@ namespace penumbra {
 
 class Scene;
 struct ElementSample;
+struct MeshedHit;
 
 // The parameters of the radiosity pass; their table (key, type, default, meaning) is at the top of
 // radiosity_solver.cpp.
@@ -113,6 +120,10 @@ struct RadiositySettings {
     // absolute threshold) is split, down to the smallest element area, and its links are refined
     // onto its children; up to 4 passes, each followed by a solve. 0 = off.
     float subdivisionThreshold = 0.0f;
+    // Final gather after the solve: rays per leaf side, cosine-distributed from stratified points
+    // of it, that gather its indirect light from the solution; each patch side's mean difference
+    // from the links' gather corrects the solution (finalGather in radiosity_solver.cpp). 0 = off.
+    int finalGatherRays = 64;
     Iteration iteration = Iteration::GaussSeidel;
 
     // The mesh settings these stand for, with the defaults resolved for `scene`.
@@ -354,6 +365,11 @@ class RadiositySolver : public RadiositySolution {
     // Reports itself as the progress stage `stage`.
     void iterate(double threshold, int round, const std::string& stage);
     void computeDirectPart();
+    // The final gather's passes (finalGather in radiosity_solver.cpp), each a stage with its
+    // gather sweeps; gatherIndirect() advances the current stage by one per leaf.
+    void finalGather();
+    std::vector<Color> gatherIndirect();
+    Color reflectedAt(const MeshedHit& hit) const;
     void computeVertexValues();
     // The per-element value function for SideVertexValues::compute that shows `value` at the
     // exposed leaf sides and the exposed mean of an ancestor's leaves at covered ones.
@@ -395,6 +411,9 @@ class RadiositySolver : public RadiositySolution {
     // element_sampling.h): a leaf's L, H and D are the means over that part, the only one that
     // sends or receives light; a parent's is the mean of its children's.
     std::vector<float> exposure_;
+    // What the final gather adds to each leaf side's radiance beyond the links' transfer
+    // (finalGather in radiosity_solver.cpp); empty without a final gather.
+    std::vector<Color> correction_;
     std::vector<std::vector<Link>> links_;  // links gathered by this node
 
     // Per cluster (empty without clustering).
@@ -423,8 +442,10 @@ class RadiositySolver : public RadiositySolution {
     std::string step_;                   // what solve() does now, to name the stages of links
     uint64_t rays_ = 0;
     size_t refinedLinks_ = 0;
+    int finalGatherPasses_ = 0;
+    uint64_t finalGatherRays_ = 0;
     double secondsDirect_ = 0, secondsLinking_ = 0, secondsLinks_ = 0, secondsSolve_ = 0,
-           secondsRefine_ = 0, secondsTotal_ = 0;
+           secondsRefine_ = 0, secondsFinalGather_ = 0, secondsTotal_ = 0;
     double peakDirect_ = 0, peakLinking_ = 0, peakRefine_ = 0, peakSolve_ = 0;  // MiB
 };
 

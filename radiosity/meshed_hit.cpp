@@ -1,0 +1,33 @@
+#include "radiosity/meshed_hit.h"
+
+#include "core/scene.h"
+#include "radiosity/radiosity_mesh.h"
+
+namespace penumbra {
+
+namespace {
+
+// Layers of thin glass a ray may pass before it gives up (as Scene::transmittance()).
+constexpr int kMaxTransparentLayers = 64;
+
+}  // namespace
+
+std::optional<MeshedHit> firstMeshedHit(const Scene& scene, const RadiosityMesh& mesh, Ray ray,
+                                        uint64_t& rays) {
+    Color transmittance(1.0f);
+    for (int layer = 0; layer <= kMaxTransparentLayers; ++layer) {
+        ++rays;
+        const std::optional<SurfaceHit> hit = scene.intersect(ray);
+        if (!hit)
+            return std::nullopt;
+        if (mesh.locate(hit->mesh, hit->triangle, hit->barycentric).element >= 0)
+            return MeshedHit{*hit, hit->frontFace(ray.d), transmittance};
+        transmittance *= scene.straightTransmittance(*hit, scene.bsdf(*hit), -ray.d);
+        if (!(maxComponent(transmittance) > 0.0f))
+            return std::nullopt;
+        ray = Scene::spawnRay(*hit, ray.d);
+    }
+    return std::nullopt;
+}
+
+}  // namespace penumbra
