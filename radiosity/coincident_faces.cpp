@@ -174,33 +174,60 @@ std::optional<CoincidentFaces::Side> CoincidentFaces::replacement(int patch, boo
     return std::nullopt;
 }
 
-std::pair<int, bool> shownLeafSide(const Scene& scene, const RadiosityMesh& mesh,
-                                   const CoincidentFaces& coincident, int e, bool front,
-                                   const std::function<bool(int element, bool front)>& exposed) {
+namespace {
+
+// The leaf of `patch` under the point p, by p's barycentric coordinates in the patch's scene
+// triangle; -1 if none.
+int leafUnder(const Scene& scene, const RadiosityMesh& mesh, int patch, const Vec3& p) {
+    const uint32_t m = mesh.sceneMesh(patch), t = mesh.sceneTriangle(patch);
+    const Mesh& sceneMesh = scene.meshes()[m];
+    const glm::uvec3 v = sceneMesh.triangles[t];
+    const Vec3 &p0 = sceneMesh.positions[v.x], &p1 = sceneMesh.positions[v.y],
+               &p2 = sceneMesh.positions[v.z];
+    const Vec3 n = glm::cross(p1 - p0, p2 - p0);
+    const float b1 = glm::dot(glm::cross(p - p0, p2 - p0), n) / glm::dot(n, n);
+    const float b2 = glm::dot(glm::cross(p1 - p0, p - p0), n) / glm::dot(n, n);
+    return mesh.locate(m, t, Vec3(1.0f - b1 - b2, b1, b2)).element;
+}
+
+// The walk of shownLeafSide and leafSideSeenAt: while `hidden` says so and a coincident patch
+// hides the side at the point `at(e)`, on to the replacing side's leaf there.
+template <typename Hidden, typename At>
+std::pair<int, bool> walkToReplacingSide(const Scene& scene, const RadiosityMesh& mesh,
+                                         const CoincidentFaces& coincident, int e, bool front,
+                                         const Hidden& hidden, const At& at) {
     // A chain of stacked copies ends at the side that wins; kMaxCoincidentHops bounds the walk.
-    for (int hop = 0; hop < kMaxCoincidentHops && !exposed(e, front); ++hop) {
-        const Vec3 centroid = mesh.centroid(e);
+    for (int hop = 0; hop < kMaxCoincidentHops && hidden(e, front); ++hop) {
+        const Vec3 p = at(e);
         const std::optional<CoincidentFaces::Side> side =
-            coincident.replacementAt(mesh.patch(e), front, centroid);
+            coincident.replacementAt(mesh.patch(e), front, p);
         if (!side)
             break;
-        // The replacing patch's leaf under the centroid, by the centroid's barycentric
-        // coordinates in the patch's scene triangle.
-        const uint32_t m = mesh.sceneMesh(side->patch), t = mesh.sceneTriangle(side->patch);
-        const Mesh& sceneMesh = scene.meshes()[m];
-        const glm::uvec3 v = sceneMesh.triangles[t];
-        const Vec3 &p0 = sceneMesh.positions[v.x], &p1 = sceneMesh.positions[v.y],
-                   &p2 = sceneMesh.positions[v.z];
-        const Vec3 n = glm::cross(p1 - p0, p2 - p0);
-        const float b1 = glm::dot(glm::cross(centroid - p0, p2 - p0), n) / glm::dot(n, n);
-        const float b2 = glm::dot(glm::cross(p1 - p0, centroid - p0), n) / glm::dot(n, n);
-        const int leaf = mesh.locate(m, t, Vec3(1.0f - b1 - b2, b1, b2)).element;
+        const int leaf = leafUnder(scene, mesh, side->patch, p);
         if (leaf < 0)
             break;
         e = leaf;
         front = side->front;
     }
     return {e, front};
+}
+
+}  // namespace
+
+std::pair<int, bool> shownLeafSide(const Scene& scene, const RadiosityMesh& mesh,
+                                   const CoincidentFaces& coincident, int e, bool front,
+                                   const std::function<bool(int element, bool front)>& exposed) {
+    return walkToReplacingSide(
+        scene, mesh, coincident, e, front,
+        [&](int leaf, bool side) { return !exposed(leaf, side); },
+        [&](int leaf) { return mesh.centroid(leaf); });
+}
+
+std::pair<int, bool> leafSideSeenAt(const Scene& scene, const RadiosityMesh& mesh,
+                                    const CoincidentFaces& coincident, int e, bool front,
+                                    const Vec3& p) {
+    return walkToReplacingSide(
+        scene, mesh, coincident, e, front, [](int, bool) { return true; }, [&](int) { return p; });
 }
 
 }  // namespace penumbra

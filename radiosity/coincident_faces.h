@@ -88,4 +88,12 @@ std::pair<int, bool> shownLeafSide(const Scene& scene, const RadiosityMesh& mesh
                                    const CoincidentFaces& coincident, int element, bool front,
                                    const std::function<bool(int element, bool front)>& exposed);
 
+// The leaf side that a ray meeting side `front` of the leaf `element` at its point p sees: itself,
+// or where a coincident patch hides it at p, the replacing patch's leaf under p on the replacing
+// side (and so on, as shownLeafSide). For rays that read the solution where they land (the final
+// gather): a partly hidden leaf side's own value is its exposed part's.
+std::pair<int, bool> leafSideSeenAt(const Scene& scene, const RadiosityMesh& mesh,
+                                    const CoincidentFaces& coincident, int element, bool front,
+                                    const Vec3& p);
+
 }  // namespace penumbra

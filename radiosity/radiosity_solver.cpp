@@ -24,7 +24,7 @@
 //   subdivision_threshold float 0               after the solve, split leaves whose reflected
 //                                               radiance differs from a neighbour's by more than
 //                                               this fraction (relative), and solve again; 0 = off
-//   final_gather        int     64              rays per leaf side that gather its indirect light
+//   final_gather        int     0               rays per leaf side that gather its indirect light
 //                                               from the solution to correct the links' transfer
 //                                               (finalGather); 0 = off
 #include "radiosity/radiosity_solver.h"
@@ -1920,7 +1920,7 @@ void RadiositySolver::finalGather() {
 // mean over an element is not the element's, which the fluxes and the links use).
 Color RadiositySolver::reflectedAt(const MeshedHit& y) const {
     const int leaf = mesh_.locate(y.hit.mesh, y.hit.triangle, y.hit.barycentric).element;
-    const auto [e, side] = shownSide(leaf, y.front);
+    const auto [e, side] = leafSideSeenAt(scene_, mesh_, coincident_, leaf, y.front, y.hit.p);
     const int n = node(e, side);
     return glm::max(L_[n] - emission(n), Color(0.0f));
 }

@@ -123,7 +123,7 @@ struct RadiositySettings {
     // Final gather after the solve: rays per leaf side, cosine-distributed from stratified points
     // of it, that gather its indirect light from the solution; each patch side's mean difference
     // from the links' gather corrects the solution (finalGather in radiosity_solver.cpp). 0 = off.
-    int finalGatherRays = 64;
+    int finalGatherRays = 0;
     Iteration iteration = Iteration::GaussSeidel;
 
     // The mesh settings these stand for, with the defaults resolved for `scene`.
