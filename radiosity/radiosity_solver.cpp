@@ -1866,17 +1866,21 @@ std::pair<int, bool> RadiositySolver::shownSide(int e, bool front) const {
 // 64 rays showed as blotches on the Cornell box's walls; the links' error it corrects (a cluster's
 // one visible fraction, a far link's form factor) varies slowly over a patch. Measured on the
 // modern hall (variant C of docs/benchmarks.md), per patch keeps about three quarters of what per
-// leaf gains: walls 0.954 -> 0.959 (0.961 per leaf) of the path tracer.
+// leaf gains: walls 0.954 -> 0.960 (0.961 per leaf) of the path tracer.
 void RadiositySolver::finalGather() {
+    std::vector<int> leaves;
+    for (size_t e = 0; e < mesh_.elementCount(); ++e) {
+        if (mesh_.isLeaf(static_cast<int>(e)))
+            leaves.push_back(static_cast<int>(e));
+    }
     correction_.assign(L_.size(), Color(0.0f));
     for (int pass = 1; pass <= kMaxFinalGatherPasses; ++pass) {
         const std::string stage = "final gather " + std::to_string(pass);
         beginStage(stage + ": rays", mesh_.leafCount());
         const uint64_t raysBefore = finalGatherRays_;
-        const std::vector<Color> gathered = gatherIndirect();
+        const std::vector<Color> gathered = gatherIndirect(leaves);
         // The change of each patch side's correction: the exposed-area mean of G less the
-        // indirect light over its leaves (per leaf, the correction would show the gather's noise
-        // as blotches; the links' error it corrects varies slowly over a patch).
+        // indirect light over its leaves.
         std::vector<Color> patchDelta(2 * mesh_.patchCount(), Color(0.0f));
         std::vector<double> patchArea(2 * mesh_.patchCount(), 0.0);
         for (size_t nd = 0; nd < L_.size(); ++nd) {
@@ -1925,13 +1929,8 @@ Color RadiositySolver::reflectedAt(const MeshedHit& y) const {
     return glm::max(L_[n] - emission(n), Color(0.0f));
 }
 
-// G of finalGather() for every exposed leaf side that reflects, per node; -1 elsewhere.
-std::vector<Color> RadiositySolver::gatherIndirect() {
-    std::vector<int> leaves;
-    for (size_t e = 0; e < mesh_.elementCount(); ++e) {
-        if (mesh_.isLeaf(static_cast<int>(e)))
-            leaves.push_back(static_cast<int>(e));
-    }
+// G of finalGather() for every exposed side of `leaves` that reflects, per node; -1 elsewhere.
+std::vector<Color> RadiositySolver::gatherIndirect(const std::vector<int>& leaves) {
     const auto n = static_cast<uint32_t>(settings_.finalGatherRays);
     std::vector<Color> gathered(L_.size(), Color(-1.0f));
     tbb::combinable<uint64_t> rays([] { return uint64_t(0); });

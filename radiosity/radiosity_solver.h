@@ -368,7 +368,7 @@ class RadiositySolver : public RadiositySolution {
     // The final gather's passes (finalGather in radiosity_solver.cpp), each a stage with its
     // gather sweeps; gatherIndirect() advances the current stage by one per leaf.
     void finalGather();
-    std::vector<Color> gatherIndirect();
+    std::vector<Color> gatherIndirect(const std::vector<int>& leaves);
     Color reflectedAt(const MeshedHit& hit) const;
     void computeVertexValues();
     // The per-element value function for SideVertexValues::compute that shows `value` at the
