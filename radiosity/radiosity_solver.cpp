@@ -1144,9 +1144,10 @@ void RadiositySolver::refineClusterPair(int receiver, int source, std::vector<Re
     // with their orientation (to clusters of receivers, though).
     const bool emittingSource = isCluster(source) && (*clusters_)[cluster(source)].emits;
     const ClusterKernel k = clusterKernel(receiver, source);
+    // The same oracle as refineLinks() applies, or a link it takes out for its receiver's sake
+    // would come back unchanged every round.
     if (k.linkable && !emittingSource) {
-        const LinkErrors errors = linkErrors(source, k.error, k.error);
-        if (std::max(errors.receiver, errors.source) <= threshold_) {
+        if (!exceedsThreshold(receiver, source, linkErrors(source, k.error, k.error))) {
             pending.push_back({receiver, source, {}});
             return;
         }

@@ -366,6 +366,40 @@ TEST(ClusteredFurnaceBox, SolidsInsideGetTheRoomsRadiance) {
     EXPECT_LT(worst, 0.05);
 }
 
+TEST(ClusteredRoom, RefinementRoundsEnd) {
+    // A link the oracle takes out for refinement must come back finer, or the rounds never end:
+    // the receiver-relative criterion (exceedsThreshold) picked element links from clusters on a
+    // dark floor, and the cluster pairs' own test, the absolute threshold alone, linked them
+    // again unchanged, every round up to max_refinements (on the modern hall, 84 000 links per
+    // round). Here a dark floor under slabs that start as clusters, and a lamp.
+    GltfBuilder builder;
+    const int walls = builder.addMaterial({.baseColor = Color(0.7f)});
+    const int floor = builder.addMaterial({.baseColor = Color(0.02f)});
+    addClosedBox(builder, walls, floor);
+    addCeilingLight(builder, 0.2f, 0.99f, 10.0f);
+    const int slab = builder.addMaterial({.baseColor = Color(0.8f)});
+    for (int k = 0; k < 4; ++k) {
+        const float x = -0.8f + 0.4f * static_cast<float>(k);
+        addSolidBox(builder, {x, -0.9f, -0.5f}, {x + 0.2f, -0.3f + 0.1f * k, 0.5f}, slab);
+    }
+    const auto scene = loadBuiltScene(builder, "radiosity-clustered-room");
+    RadiositySettings settings;
+    settings.patchEdgeLength = 0.5f;
+    settings.minElementArea = 1.0f / 256.0f;
+    settings.clusterMinPatches = 0;
+    RadiosityMesh mesh(*scene, settings.meshing(*scene));
+    RadiositySolver solver(*scene, mesh, settings);
+    solver.solve();
+    int rounds = -1;
+    for (const auto& [key, value] : solver.stats()) {
+        if (key == "refinement_rounds")
+            rounds = std::stoi(value);
+    }
+    std::cout << rounds << " refinement rounds of at most " << settings.maxRefinements << ", "
+              << solver.linkCount() << " links\n";
+    EXPECT_LT(rounds, settings.maxRefinements);
+}
+
 // The share of the light reflected into a closed room that is indirect: over the sides facing
 // the room (the fronts of its walls, wound inwards, and of the solids in it), sum A (L - Le -
 // direct) over sum A (L - Le). Every lumen they reflect lands on another of them and is reflected
