@@ -127,7 +127,9 @@ PassStats RadiosityPass::parameters() const {
                   h->iteration == RadiositySettings::Iteration::Jacobi ? "jacobi" : "gauss-seidel"},
                  {"cluster_min_patches", std::to_string(h->clusterMinPatches)},
                  {"subdivision_threshold", formatStat(h->subdivisionThreshold)},
-                 {"final_gather", std::to_string(h->finalGatherRays)}};
+                 {"final_gather", h->finalGatherRays == RadiositySettings::kAutoFinalGather
+                                      ? "auto"
+                                      : std::to_string(h->finalGatherRays)}};
     } else {
         const auto& p = std::get<ProgressiveSettings>(settings_);
         stats = {{"solver", "progressive"},

@@ -104,7 +104,15 @@ std::unique_ptr<Pass> hierarchicalRadiosityPass(const ScriptTable& p) {
     s.maxRefinements = p.get("max_refinements", s.maxRefinements);
     s.clusterMinPatches = p.get("cluster_min_patches", s.clusterMinPatches);
     s.subdivisionThreshold = p.get("subdivision_threshold", s.subdivisionThreshold);
-    s.finalGatherRays = p.get("final_gather", s.finalGatherRays);
+    // An integer, or "auto" (the default): the solver decides (RadiositySettings::finalGatherRays).
+    if (p.holdsString("final_gather")) {
+        const std::string gather = p.get<std::string>("final_gather", "");
+        if (gather != "auto")
+            throw p.error("final_gather",
+                          "unknown value '" + gather + "'; valid: an integer in [0, 65536], auto");
+    } else {
+        s.finalGatherRays = p.get("final_gather", s.finalGatherRays, 0, 65536);
+    }
     const std::string iteration = p.get<std::string>("iteration", "gauss-seidel");
     if (iteration == "jacobi") {
         s.iteration = RadiositySettings::Iteration::Jacobi;

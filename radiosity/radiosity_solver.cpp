@@ -24,9 +24,10 @@
 //   subdivision_threshold float 0               after the solve, split leaves whose reflected
 //                                               radiance differs from a neighbour's by more than
 //                                               this fraction (relative), and solve again; 0 = off
-//   final_gather        int     0               rays per leaf side that gather its indirect light
+//   final_gather        int     auto (-1)       rays per leaf side that gather its indirect light
 //                                               from the solution to correct the links' transfer
-//                                               (finalGather); 0 = off
+//                                               (finalGather); 0 = off; auto = 64 when the solver
+//                                               starts from clusters, else off
 #include "radiosity/radiosity_solver.h"
 
 #include "core/errors.h"
@@ -174,8 +175,9 @@ void validateRadiositySettings(const RadiositySettings& s) {
         fail("cluster_min_patches", "an integer >= 0", s.clusterMinPatches);
     if (!(s.subdivisionThreshold >= 0.0f) || !std::isfinite(s.subdivisionThreshold))
         fail("subdivision_threshold", "a number >= 0", s.subdivisionThreshold);
-    if (s.finalGatherRays < 0 || s.finalGatherRays > 65536)
-        fail("final_gather", "an integer in [0, 65536]", s.finalGatherRays);
+    if (s.finalGatherRays != RadiositySettings::kAutoFinalGather &&
+        (s.finalGatherRays < 0 || s.finalGatherRays > 65536))
+        fail("final_gather", "an integer in [0, 65536] or auto (-1)", s.finalGatherRays);
 }
 
 RadiositySolver::RadiositySolver(const Scene& scene, RadiosityMesh& mesh,
@@ -1930,9 +1932,15 @@ Color RadiositySolver::reflectedAt(const MeshedHit& y) const {
     return glm::max(L_[n] - emission(n), Color(0.0f));
 }
 
+int RadiositySolver::finalGatherRays() const {
+    if (settings_.finalGatherRays != RadiositySettings::kAutoFinalGather)
+        return settings_.finalGatherRays;
+    return clusters_ ? RadiositySettings::kClusterFinalGatherRays : 0;
+}
+
 // G of finalGather() for every exposed side of `leaves` that reflects, per node; -1 elsewhere.
 std::vector<Color> RadiositySolver::gatherIndirect(const std::vector<int>& leaves) {
-    const auto n = static_cast<uint32_t>(settings_.finalGatherRays);
+    const auto n = static_cast<uint32_t>(finalGatherRays());
     std::vector<Color> gathered(L_.size(), Color(-1.0f));
     tbb::combinable<uint64_t> rays([] { return uint64_t(0); });
     parallelForWithProgress(leaves.size(), progress_, [&](size_t i) {
@@ -2083,7 +2091,7 @@ void RadiositySolver::solve(SolveProgress* progress) {
     computeVertexValues();
     endStage(std::to_string(mesh_.vertexCount()) + " vertices");
     secondsSolve_ += secondsSince(stageStart);
-    if (settings_.finalGatherRays > 0) {
+    if (finalGatherRays() > 0) {
         stageStart = std::chrono::steady_clock::now();
         finalGather();
         secondsFinalGather_ = secondsSince(stageStart);
@@ -2239,6 +2247,7 @@ PassStats RadiositySolver::stats() const {
             {"seconds_form_factors", formatStat(secondsLinks_)},
             {"seconds_refine", formatStat(secondsRefine_)},
             {"seconds_solve", formatStat(secondsSolve_)},
+            {"final_gather", std::to_string(finalGatherRays())},
             {"final_gather_passes", std::to_string(finalGatherPasses_)},
             {"final_gather_rays", std::to_string(finalGatherRays_)},
             {"seconds_final_gather", formatStat(secondsFinalGather_)},

@@ -242,6 +242,13 @@ TEST_F(PassScriptTest, PipelinesThatCountAPathTwiceOrLackAProduct) {
               "makes: put a pass of type 'radiosity' before it");
     EXPECT_EQ(firstLine(error(kScene + whitted + "ambient = -1\n")).substr(0, 30),
               "4:11: pass[0].ambient: expecte");
+    // The final gather: an integer in [0, 65536] or "auto".
+    const std::string radiosity = "[[pass]]\ntype = \"radiosity\"\n";
+    EXPECT_EQ(firstLine(error(kScene + radiosity + "final_gather = \"on\"\n")),
+              "4:16: pass[0].final_gather: unknown value 'on'; valid: an integer in [0, 65536], "
+              "auto");
+    EXPECT_EQ(firstLine(error(kScene + radiosity + "final_gather = -1\n")).substr(0, 35),
+              "4:16: pass[0].final_gather: expecte");
 }
 
 TEST_F(PassScriptTest, MissingPasses) {

@@ -459,6 +459,32 @@ TEST(FinalGather, KeepsTheIndirectLightOfAClosedRoom) {
     }
 }
 
+TEST(FinalGather, RunsByDefaultWhenTheSolverStartsFromClusters) {
+    // final_gather = auto: 64 rays per leaf side with clusters, whose transfer the gather
+    // corrects (above), none without (RadiositySettings::finalGatherRays says why).
+    GltfBuilder builder;
+    const int white = builder.addMaterial({.baseColor = Color(0.5f)});
+    addClosedBox(builder, white, white);
+    addCeilingLight(builder, 0.3f, 0.99f, 1.0f);
+    const auto scene = loadBuiltScene(builder, "radiosity-final-gather-auto");
+    for (const bool clustered : {false, true}) {
+        RadiositySettings settings;
+        settings.patchEdgeLength = 1.0f;
+        settings.minElementArea = 0.05f;
+        settings.epsilon = 0.05f;
+        settings.clusterMinPatches = clustered ? 0 : 1000;
+        RadiosityMesh mesh(*scene, settings.meshing(*scene));
+        RadiositySolver solver(*scene, mesh, settings);
+        solver.solve();
+        std::map<std::string, std::string> stats;
+        for (const auto& [key, value] : solver.stats())
+            stats[key] = value;
+        EXPECT_EQ(stats["clusters"] != "0", clustered);
+        EXPECT_EQ(stats["final_gather"], clustered ? "64" : "0");
+        EXPECT_EQ(stats["final_gather_passes"] != "0", clustered);
+    }
+}
+
 // --- Against a dense solve
 // ------------------------------------------------------------------------
 
