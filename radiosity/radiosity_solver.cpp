@@ -2247,7 +2247,7 @@ PassStats RadiositySolver::stats() const {
             {"seconds_form_factors", formatStat(secondsLinks_)},
             {"seconds_refine", formatStat(secondsRefine_)},
             {"seconds_solve", formatStat(secondsSolve_)},
-            {"final_gather", std::to_string(finalGatherRays())},
+            {"final_gather_rays_per_side", std::to_string(finalGatherRays())},
             {"final_gather_passes", std::to_string(finalGatherPasses_)},
             {"final_gather_rays", std::to_string(finalGatherRays_)},
             {"seconds_final_gather", formatStat(secondsFinalGather_)},

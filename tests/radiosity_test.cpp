@@ -480,7 +480,7 @@ TEST(FinalGather, RunsByDefaultWhenTheSolverStartsFromClusters) {
         for (const auto& [key, value] : solver.stats())
             stats[key] = value;
         EXPECT_EQ(stats["clusters"] != "0", clustered);
-        EXPECT_EQ(stats["final_gather"], clustered ? "64" : "0");
+        EXPECT_EQ(stats["final_gather_rays_per_side"], clustered ? "64" : "0");
         EXPECT_EQ(stats["final_gather_passes"] != "0", clustered);
     }
 }
