@@ -1674,6 +1674,10 @@ RadiositySolver::ChangeSums RadiositySolver::sweep() {
 // successive changes is 1 and the estimate infinite (seen in a furnace with a block on its floor,
 // refined further than by the defaults: one element's last bit alternated for all 5000 sweeps of
 // max_iterations).
+// A refinement splits the same transfer among more links and leaves the spectral radius of the
+// iteration about where it was: the gathers after the first take the largest q measured so far
+// for their first three sweeps (each round's gather used to need four sweeps to estimate q anew,
+// mostly after the first already met its threshold).
 void RadiositySolver::iterate(double threshold, int round, const std::string& stage) {
     beginStage(stage, kGatherProgressUnits);
     updateChildWeights();
@@ -1713,8 +1717,11 @@ void RadiositySolver::iterate(double threshold, int round, const std::string& st
             double q = 0.0;
             for (size_t k = changes.size() - 3; k < changes.size(); ++k)
                 q = std::max(q, changes[k] / changes[k - 1]);
+            contraction_ = std::max(contraction_, q);
             if (q < 1.0)
                 it.errorBound = it.change * q / (1.0 - q);
+        } else if (contraction_ >= 0.0 && contraction_ < 1.0) {
+            it.errorBound = it.change * contraction_ / (1.0 - contraction_);
         }
         iterations_.push_back(it);
         report(std::isfinite(it.errorBound) ? it.errorBound : it.change);

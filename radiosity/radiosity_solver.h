@@ -443,6 +443,9 @@ class RadiositySolver : public RadiositySolution {
     std::vector<int> created_;  // elements split off since the last finishSplits()
     std::vector<RadiosityIteration> iterations_;
     bool converged_ = false;
+    // The largest contraction factor iterate() has measured so far (-1 before any), which the
+    // gathers after a refinement take until they measure their own.
+    double contraction_ = -1.0;
     int rounds_ = 0;
     SideVertexValues vertexReflected_;   // the reflected radiance, per mesh vertex and side
     SideVertexValues vertexIndirect_;    // its indirect part (elementIndirect)
