@@ -27,8 +27,6 @@ constexpr size_t kMaxTargets = 64;
 // that a photon cannot bounce for ever between perfect mirrors (as the path tracer does).
 constexpr int kRouletteStartDepth = 3;
 constexpr float kMinTerminationProbability = 0.05f;
-// Transparent layers (thin glass, cut-outs) a photon may pass without scattering.
-constexpr int kMaxTransparentLayers = 64;
 
 struct Sphere {
     Vec3 center;
@@ -245,7 +243,7 @@ class Tracer {
             const StraightThrough straight = chooseStraightThrough(scene_, *hit, bsdf, wo, sampler);
             beta *= straight.weight;
             if (straight.passes) {
-                if (++transparentLayers > kMaxTransparentLayers)
+                if (++transparentLayers > Scene::kMaxTransparentLayers)
                     return;
                 ray = Scene::spawnRay(*hit, ray.d);
                 continue;

@@ -7,10 +7,6 @@ namespace penumbra {
 
 namespace {
 
-// Maximum number of transparent surfaces a shadow ray passes before it is treated as blocked;
-// architectural glazing has 2 to 6, foliage cut-outs a few more.
-constexpr int kMaxTransparentLayers = 64;
-
 bool canBeTransparent(const Material& m) {
     return m.alphaMode != AlphaMode::Opaque || (m.transmission > 0.0f && m.thinWalled());
 }
@@ -170,7 +166,7 @@ Color Scene::transmittance(const Vec3& from, const Vec3& fromError, const Vec3& 
     const Vec3 toward = to - from;
     const Vec3 target =
         glm::dot(toNormal, toNormal) > 0.0f ? offsetRayOrigin(to, toError, toNormal, -toward) : to;
-    for (int layer = 0; layer <= kMaxTransparentLayers; ++layer) {
+    for (int layer = 0; layer <= Scene::kMaxTransparentLayers; ++layer) {
         const Vec3 start = glm::dot(originNormal, originNormal) > 0.0f
                                ? offsetRayOrigin(origin, originError, originNormal, target - origin)
                                : origin;

@@ -48,6 +48,11 @@ class Scene {
     // The area light of an emissive triangle, or -1.
     int lightIndex(const SurfaceHit& hit) const;
 
+    // Transparent surfaces (straightTransmittance) a ray passes before it is treated as blocked:
+    // the same for shadow rays, photons and the rays that look at a radiosity solution, so that
+    // they agree. Architectural glazing has 2 to 6, foliage cut-outs a few more.
+    static constexpr int kMaxTransparentLayers = 64;
+
     // Light passing straight through the surface towards -wo without changing direction:
     // alpha cut-outs (alphaMode MASK below the cutoff, BLEND by 1 - alpha) and thin-walled
     // transmission. Tracers treat it as transparency, not as a scattering vertex, in primary

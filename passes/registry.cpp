@@ -111,7 +111,8 @@ std::unique_ptr<Pass> hierarchicalRadiosityPass(const ScriptTable& p) {
             throw p.error("final_gather",
                           "unknown value '" + gather + "'; valid: an integer in [0, 65536], auto");
     } else {
-        s.finalGatherRays = p.get("final_gather", s.finalGatherRays, 0, 65536);
+        s.finalGatherRays =
+            p.get("final_gather", s.finalGatherRays, 0, RadiositySettings::kMaxFinalGatherRays);
     }
     const std::string iteration = p.get<std::string>("iteration", "gauss-seidel");
     if (iteration == "jacobi") {

@@ -5,17 +5,10 @@
 
 namespace penumbra {
 
-namespace {
-
-// Layers of thin glass a ray may pass before it gives up (as Scene::transmittance()).
-constexpr int kMaxTransparentLayers = 64;
-
-}  // namespace
-
 std::optional<MeshedHit> firstMeshedHit(const Scene& scene, const RadiosityMesh& mesh, Ray ray,
                                         uint64_t& rays) {
     Color transmittance(1.0f);
-    for (int layer = 0; layer <= kMaxTransparentLayers; ++layer) {
+    for (int layer = 0; layer <= Scene::kMaxTransparentLayers; ++layer) {
         ++rays;
         const std::optional<SurfaceHit> hit = scene.intersect(ray);
         if (!hit)

@@ -176,7 +176,7 @@ void validateRadiositySettings(const RadiositySettings& s) {
     if (!(s.subdivisionThreshold >= 0.0f) || !std::isfinite(s.subdivisionThreshold))
         fail("subdivision_threshold", "a number >= 0", s.subdivisionThreshold);
     if (s.finalGatherRays != RadiositySettings::kAutoFinalGather &&
-        (s.finalGatherRays < 0 || s.finalGatherRays > 65536))
+        (s.finalGatherRays < 0 || s.finalGatherRays > RadiositySettings::kMaxFinalGatherRays))
         fail("final_gather", "an integer in [0, 65536] or auto (-1)", s.finalGatherRays);
 }
 
@@ -1234,11 +1234,7 @@ bool RadiositySolver::refineDirect() {
 // the variation the leaf could not. Links gathered by its ancestors stay and are pushed down.
 // Returns whether any leaf was split.
 bool RadiositySolver::subdivideByContrast() {
-    std::vector<int> leaves;
-    for (size_t e = 0; e < mesh_.elementCount(); ++e) {
-        if (mesh_.isLeaf(static_cast<int>(e)))
-            leaves.push_back(static_cast<int>(e));
-    }
+    const std::vector<int> leaves = leafElements();
     std::unordered_map<uint32_t, std::vector<int>> around;  // vertex -> leaves on it
     std::vector<std::vector<uint32_t>> boundary(leaves.size());
     for (size_t i = 0; i < leaves.size(); ++i) {
@@ -1878,11 +1874,7 @@ std::pair<int, bool> RadiositySolver::shownSide(int e, bool front) const {
 // modern hall (variant C of docs/benchmarks.md), per patch keeps about three quarters of what per
 // leaf gains: walls 0.954 -> 0.960 (0.961 per leaf) of the path tracer.
 void RadiositySolver::finalGather() {
-    std::vector<int> leaves;
-    for (size_t e = 0; e < mesh_.elementCount(); ++e) {
-        if (mesh_.isLeaf(static_cast<int>(e)))
-            leaves.push_back(static_cast<int>(e));
-    }
+    const std::vector<int> leaves = leafElements();
     correction_.assign(L_.size(), Color(0.0f));
     for (int pass = 1; pass <= kMaxFinalGatherPasses; ++pass) {
         const std::string stage = "final gather " + std::to_string(pass);
@@ -1939,6 +1931,15 @@ Color RadiositySolver::reflectedAt(const MeshedHit& y) const {
     return glm::max(L_[n] - emission(n), Color(0.0f));
 }
 
+std::vector<int> RadiositySolver::leafElements() const {
+    std::vector<int> leaves;
+    for (size_t e = 0; e < mesh_.elementCount(); ++e) {
+        if (mesh_.isLeaf(static_cast<int>(e)))
+            leaves.push_back(static_cast<int>(e));
+    }
+    return leaves;
+}
+
 int RadiositySolver::finalGatherRays() const {
     if (settings_.finalGatherRays != RadiositySettings::kAutoFinalGather)
         return settings_.finalGatherRays;
@@ -1981,7 +1982,7 @@ std::vector<Color> RadiositySolver::gatherIndirect(const std::vector<int>& leave
                 gathered[static_cast<size_t>(nd)] = rho * sum / static_cast<float>(used);
         }
     });
-    const uint64_t cast = rays.combine([](uint64_t a, uint64_t b) { return a + b; });
+    const uint64_t cast = rays.combine(std::plus<uint64_t>());
     finalGatherRays_ += cast;
     rays_ += cast;
     return gathered;
@@ -2027,11 +2028,7 @@ void RadiositySolver::solve(SolveProgress* progress) {
     };
 
     // Stage 1: the punctual lights' direct light; the initial radiance is Le + rho D.
-    std::vector<int> leaves;
-    for (size_t e = 0; e < mesh_.elementCount(); ++e) {
-        if (mesh_.isLeaf(static_cast<int>(e)))
-            leaves.push_back(static_cast<int>(e));
-    }
+    const std::vector<int> leaves = leafElements();
     std::vector<int> elements(mesh_.elementCount());
     std::iota(elements.begin(), elements.end(), 0);
     computeExposure(elements);

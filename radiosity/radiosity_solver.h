@@ -129,6 +129,7 @@ struct RadiositySettings {
     // kAutoFinalGather = kClusterFinalGatherRays when the solver starts from clusters, else off.
     static constexpr int kAutoFinalGather = -1;
     static constexpr int kClusterFinalGatherRays = 64;
+    static constexpr int kMaxFinalGatherRays = 65536;
     int finalGatherRays = kAutoFinalGather;
     Iteration iteration = Iteration::GaussSeidel;
 
@@ -376,6 +377,7 @@ class RadiositySolver : public RadiositySolution {
     // The final gather's passes (finalGather in radiosity_solver.cpp), each a stage with its
     // gather sweeps; gatherIndirect() advances the current stage by one per leaf.
     void finalGather();
+    std::vector<int> leafElements() const;  // the current leaves, in element order
     std::vector<Color> gatherIndirect(const std::vector<int>& leaves);
     Color reflectedAt(const MeshedHit& hit) const;
     void computeVertexValues();
