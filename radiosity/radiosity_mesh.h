@@ -110,6 +110,12 @@ class RadiosityMesh {
     int parent(int element) const { return at(element).parent; }
     // The first of the four consecutive children, -1 for a leaf.
     int firstChild(int element) const { return at(element).firstChild; }
+    // Which of an element's children (0-3, whether it is split yet or not) holds the point of
+    // barycentric coordinates w in the element's corners: child c < 3 the corner c's, where
+    // w[c] > 1/2, child 3 the middle one.
+    static int childAt(const Vec3& w) {
+        return w.x > 0.5f ? 0 : w.y > 0.5f ? 1 : w.z > 0.5f ? 2 : 3;
+    }
     bool isLeaf(int element) const { return at(element).firstChild < 0; }
     // The patch (quadtree root) the element belongs to; a patch is its own.
     int patch(int element) const { return at(element).patch; }

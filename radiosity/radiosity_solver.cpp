@@ -91,10 +91,6 @@ constexpr int kFirstVisibilityRays = 4;
 // Points a partly covered receiver may draw per shadow ray, for its exposed ones (visibility).
 constexpr int kCoveredDraws = 4;
 
-// Shadow rays per child of a partly occluded link's source or receiver (setSourceWeights,
-// setReceiverWeights).
-constexpr int kChildVisibilityRays = 8;
-
 // Points per element whose exposed fraction is sampled (computeExposure): at least this many, and
 // at least one per smallest element's area, at most kMaxExposureSamples.
 constexpr int kExposureSamples = 16;
@@ -500,20 +496,26 @@ Vec3 RadiositySolver::linearModel(int receiver, const KernelSamples& k, float F,
 // an interior are unoccluded, so this saves most rays. An occluder missed by all four is small
 // against the pair, and the caller asks for it only where even missing the whole transfer would be
 // under the oracle's threshold (evaluateLinks).
+//
+// The same rays, binned by the child of each element end they leave or reach, give the children's
+// visible fractions (`children`) for the link's child weights, about n/4 rays per child: the
+// children exist or not yet, they are the element's 1:4 split (RadiosityMesh::childAt).
 Color RadiositySolver::visibility(int receiver, int source, uint64_t& rays, bool adaptive,
-                                  int samples) const {
-    const int n = samples > 0 ? samples : settings_.visibilitySamples;
+                                  ChildVisibility* children) const {
+    const int n = settings_.visibilitySamples;
     Sampler sampler(kVisibilitySeed);
     struct NodeSample {
         ElementSample x;
         int element;
+        int child;  // of an element node, RadiosityMesh::childAt; -1 for a cluster
     };
     const auto sample = [&](int node) {
         Vec2 u = sampler.get2D();
         if (!isCluster(node))
-            return NodeSample{sampleElement(scene_, mesh_, element(node), u), element(node)};
+            return NodeSample{sampleElement(scene_, mesh_, element(node), u), element(node),
+                              RadiosityMesh::childAt(sampleUniformTriangle(u))};
         const int patch = clusters_->samplePatch(cluster(node), u.x);
-        return NodeSample{sampleElement(scene_, mesh_, patch, u), patch};
+        return NodeSample{sampleElement(scene_, mesh_, patch, u), patch, -1};
     };
     // Whether a cluster's point takes part: the side of its patch facing the other point must be
     // exposed. The isotropic model already gives a side facing away nothing (the mean projected
@@ -547,6 +549,27 @@ Color RadiositySolver::visibility(int receiver, int source, uint64_t& rays, bool
     const bool receiverCovered = partlyCovered(receiver), sourceCovered = partlyCovered(source);
     Color sum(0.0f), facingSum(0.0f);
     int k = 0, counted = 0, facing = 0;
+    // Per end (receiver, source) and child: the sums of T's channel means and the ray counts, over
+    // all pairs and over the facing ones.
+    struct ChildTally {
+        std::array<std::array<float, 4>, 2> sum{}, facingSum{};
+        std::array<std::array<int, 4>, 2> count{}, facing{};
+    } tally;
+    const auto addToChildren = [&](const NodeSample& xs, const NodeSample& ys, const Color& T,
+                                   bool isFacing) {
+        const float mean = (T.r + T.g + T.b) / 3.0f;
+        for (int end = 0; end < 2; ++end) {
+            const int c = (end == 0 ? xs : ys).child;
+            if (c < 0)
+                continue;
+            tally.sum[end][c] += mean;
+            ++tally.count[end][c];
+            if (isFacing) {
+                tally.facingSum[end][c] += mean;
+                ++tally.facing[end][c];
+            }
+        }
+    };
     const auto cast = [&](int until) {
         for (; counted < until && k < kCoveredDraws * until; ++k) {
             sampler.startPixelSample(pixel, static_cast<uint32_t>(k));
@@ -561,10 +584,14 @@ Color RadiositySolver::visibility(int receiver, int source, uint64_t& rays, bool
                                 ? Color(0.0f)
                                 : scene_.transmittance(x.p, x.pError, x.n, y.p, y.pError, y.n);
             sum += T;
-            if (glm::dot(nr, y.p - x.p) >= 0.0f && glm::dot(ns, x.p - y.p) >= 0.0f) {
+            const bool isFacing =
+                glm::dot(nr, y.p - x.p) >= 0.0f && glm::dot(ns, x.p - y.p) >= 0.0f;
+            if (isFacing) {
                 facingSum += T;
                 ++facing;
             }
+            if (children)
+                addToChildren(xs, ys, T, isFacing);
         }
     };
     // The form factor integrates only over the pairs of points in front of each other
@@ -585,6 +612,20 @@ Color RadiositySolver::visibility(int receiver, int source, uint64_t& rays, bool
     if (!agree)
         cast(n);
     rays += static_cast<uint64_t>(counted);
+    if (children) {
+        // Over the same pairs as the link's estimate.
+        const auto& childSum = facing > 0 ? tally.facingSum : tally.sum;
+        const auto& childCount = facing > 0 ? tally.facing : tally.count;
+        for (int c = 0; c < RadiosityMesh::kChildren; ++c) {
+            const auto code = [&](int end) {
+                const int m = childCount[end][c];
+                return m > 0 ? ChildVisibility::encode(childSum[end][c] / static_cast<float>(m))
+                             : ChildVisibility::kNoRays;
+            };
+            children->receiver[c] = code(0);
+            children->source[c] = code(1);
+        }
+    }
     return estimate();
 }
 
@@ -882,6 +923,7 @@ void RadiositySolver::evaluateLinks(const std::vector<PendingLink>& pending) {
     // cluster link).
     std::vector<float> F(n, 0.0f), Fmax(n, 0.0f), spread(n, 0.0f);
     std::vector<Color> V(n, Color(0.0f));
+    std::vector<ChildVisibility> childV(n);
 
     // The form factors and shadow rays are most of a refinement's time: the stage's bar counts
     // the pending links.
@@ -912,9 +954,11 @@ void RadiositySolver::evaluateLinks(const std::vector<PendingLink>& pending) {
             if (j >= 0)
                 adaptive = adaptive &&
                            smallTransfer(p.receiver, pending[static_cast<size_t>(j)].samples.max());
-            V[i] = visibility(p.receiver, p.source, rays.local(), adaptive);
-            if (j >= 0)
+            V[i] = visibility(p.receiver, p.source, rays.local(), adaptive, &childV[i]);
+            if (j >= 0) {
                 V[static_cast<size_t>(j)] = V[i];
+                childV[static_cast<size_t>(j)] = childV[i].reversed();
+            }
             if (maxComponent(V[i]) <= 0.0f)
                 return;
             F[i] = exposedFormFactor(p.receiver, p.source,
@@ -941,9 +985,11 @@ void RadiositySolver::evaluateLinks(const std::vector<PendingLink>& pending) {
                 Fmax[r] = glm::max(pending[r].samples.max(), F[r]);
             adaptive = adaptive && smallTransfer(p.receiver, Fmax[r]);
         }
-        V[i] = visibility(p.receiver, p.source, rays.local(), adaptive);
-        if (j >= 0)
+        V[i] = visibility(p.receiver, p.source, rays.local(), adaptive, &childV[i]);
+        if (j >= 0) {
             V[static_cast<size_t>(j)] = V[i];
+            childV[static_cast<size_t>(j)] = childV[i].reversed();
+        }
     });
     // The links, each from its own receiver's samples.
     std::vector<Link> evaluated(n);
@@ -954,6 +1000,7 @@ void RadiositySolver::evaluateLinks(const std::vector<PendingLink>& pending) {
         link.F = F[i];
         link.Fmax = Fmax[i];
         link.K = F[i] * V[i];
+        link.childV = childV[i];
         if (!(link.F > 0.0f))
             return;
         if (isClusterLink(i)) {
@@ -1301,24 +1348,12 @@ bool partlyOccluded(const Color& K, float F) {
     return glm::min(K.r, glm::min(K.g, K.b)) < F;
 }
 
-}  // namespace
-
-// The visible fraction of each child of the element side `parent` towards the node `other` (the
-// parent receiving) or of `other` towards each child (the parent the source): the mean over the
-// channels of kChildVisibilityRays stratified shadow rays per child (visibility()).
-std::array<float, 4> RadiositySolver::childVisibility(int parent, int other, bool parentReceives,
-                                                      uint64_t& rays) const {
-    std::array<float, 4> V{};
-    const int first = mesh_.firstChild(element(parent));
-    for (int c = 0; c < RadiosityMesh::kChildren; ++c) {
-        const int child = node(first + c, front(parent));
-        const Color v = parentReceives
-                            ? visibility(child, other, rays, false, kChildVisibilityRays)
-                            : visibility(other, child, rays, false, kChildVisibilityRays);
-        V[c] = (v.r + v.g + v.b) / 3.0f;
-    }
-    return V;
+// A link's visible fraction, the mean over the channels.
+float meanVisibility(const Color& K, float F) {
+    return (K.r + K.g + K.b) / (3.0f * F);
 }
+
+}  // namespace
 
 // The source side of a link at first order: when the source has children, its radiance is not
 // uniform, and the light the receiver gathers weighs each child by its share of the form factor,
@@ -1328,14 +1363,15 @@ std::array<float, 4> RadiositySolver::childVisibility(int parent, int other, boo
 // 1 % of the interreflected light lost at epsilon = 0.01. This is the source side of a two-level
 // quadrature of the transfer (Cohen and Wallace 1993, chapter 4, "area-to-area form factors by
 // numerical integration"), and for a partly occluded link the quadrature takes each child's own
-// visible fraction V_c too: w_c = F_c V_c / sum_c F_c V_c. With the link's one visible fraction
+// visible fraction V_c too (from the link's own rays, Link::childV): w_c = F_c V_c / sum_c F_c V_c.
+// With the link's one visible fraction
 // instead, the children the receiver cannot see (the floor under a block, in its shadow, dark)
 // counted as much as the lit ones it sees, and the link carried their mean: the correlation of
 // the source's radiance with its visibility was lost, always in the same direction, as what is
 // hidden from a receiver is mostly also hidden from the light. That was half of the hierarchical
 // solution's deficit against the dense solve on the same leaves on the Cornell box (floor -0.8 %,
 // back wall -0.5 %, ceiling -0.45 %, block faces to -3 %).
-void RadiositySolver::setSourceWeights(int receiver, Link& link, uint64_t& rays) const {
+void RadiositySolver::setSourceWeights(int receiver, Link& link) const {
     if (isCluster(receiver) || isCluster(link.source))
         return;
     const int es = element(link.source);
@@ -1353,12 +1389,13 @@ void RadiositySolver::setSourceWeights(int receiver, Link& link, uint64_t& rays)
     for (int c = 0; c < RadiosityMesh::kChildren; ++c)
         F[c] = pointToPolygonFormFactor(x, nr, mesh_.corners(first + c));
     if (partlyOccluded(link.K, link.F)) {
-        const std::array<float, 4> V = childVisibility(link.source, receiver, false, rays);
+        const std::array<float, 4> V =
+            ChildVisibility::decode(link.childV.source, meanVisibility(link.K, link.F));
         std::array<double, 4> FV{};
         for (int c = 0; c < RadiosityMesh::kChildren; ++c)
             FV[c] = F[c] * V[c];
-        // All children missed by their few rays, though the link's own rays saw the source:
-        // keep the form factor's shares.
+        // The children the rays saw lit have no form factor at the receiver's centroid, though
+        // the link carries light: keep the form factor's shares.
         if (FV[0] + FV[1] + FV[2] + FV[3] > 0.0)
             F = FV;
     }
@@ -1371,21 +1408,22 @@ void RadiositySolver::setSourceWeights(int receiver, Link& link, uint64_t& rays)
 
 // The receiver side of the same correlation: a link gathered by an element side with children
 // gives them its transfer in proportion to their own visible fractions of the source (over their
-// exposed parts, visibility()), u_c = V_c sum_k a_k / sum_k a_k V_k with a_k the children's
-// exposed fractions (the children have equal areas, so the shares keep the transfer over the
-// exposed area, sum_c a_c u_c = sum_c a_c), rather than evenly. Evenly, the children hidden from
-// the source (under a block standing on the floor, above the light that hangs 0.1 mm under the
-// Cornell ceiling) received light they cannot have, which is lost, since they show it to nobody,
-// and the children that see the source got too little. An unoccluded link, or one whose children
-// all miss the source, shares evenly (u = 1). Only one level down: the children pass what they get
-// evenly to their own children.
-void RadiositySolver::setReceiverWeights(int receiver, Link& link, uint64_t& rays) const {
+// exposed parts, from the link's own rays: visibility(), Link::childV), u_c = V_c sum_k a_k / sum_k
+// a_k V_k with a_k the children's exposed fractions (the children have equal areas, so the shares
+// keep the transfer over the exposed area, sum_c a_c u_c = sum_c a_c), rather than evenly. Evenly,
+// the children hidden from the source (under a block standing on the floor, above the light that
+// hangs 0.1 mm under the Cornell ceiling) received light they cannot have, which is lost, since
+// they show it to nobody, and the children that see the source got too little. An unoccluded link,
+// or one whose children all miss the source, shares evenly (u = 1). Only one level down: the
+// children pass what they get evenly to their own children.
+void RadiositySolver::setReceiverWeights(int receiver, Link& link) const {
     if (isCluster(receiver) || isCluster(link.source) || mesh_.isLeaf(element(receiver)))
         return;
     link.u = {1.0f, 1.0f, 1.0f, 1.0f};
     if (!partlyOccluded(link.K, link.F))
         return;
-    const std::array<float, 4> V = childVisibility(receiver, link.source, true, rays);
+    const std::array<float, 4> V =
+        ChildVisibility::decode(link.childV.receiver, meanVisibility(link.K, link.F));
     const int first = mesh_.firstChild(element(receiver));
     float sum = 0.0f, exposed = 0.0f;
     for (int c = 0; c < RadiosityMesh::kChildren; ++c) {
@@ -1401,16 +1439,14 @@ void RadiositySolver::setReceiverWeights(int receiver, Link& link, uint64_t& ray
 
 // Sets the child weights of links whose source or receiver has been split since they were made.
 void RadiositySolver::updateChildWeights() {
-    tbb::combinable<uint64_t> rays([] { return uint64_t(0); });
     tbb::parallel_for(size_t(0), links_.size(), [&](size_t n) {
         for (Link& link : links_[n]) {
             if (link.w[0] < 0.0f)
-                setSourceWeights(static_cast<int>(n), link, rays.local());
+                setSourceWeights(static_cast<int>(n), link);
             if (link.u[0] < 0.0f)
-                setReceiverWeights(static_cast<int>(n), link, rays.local());
+                setReceiverWeights(static_cast<int>(n), link);
         }
     });
-    rays_ += rays.combine(std::plus<uint64_t>());
 }
 
 // A source cluster's radiance towards the receiver, to first order in the direction (the

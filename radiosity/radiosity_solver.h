@@ -74,6 +74,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -210,6 +211,28 @@ class RadiositySolver : public RadiositySolution {
         }
         float spread(float limiter) const;
     };
+    // The visible fractions (means over the channels) of the four children of a link's receiver
+    // and of its source (RadiosityMesh::childAt), split yet or not, from the link's own shadow
+    // rays binned by the child each end of a ray falls in; kNoRays where none fell. Stored in
+    // steps of 1/254: they only share the link's transfer among the children (setSourceWeights,
+    // setReceiverWeights).
+    struct ChildVisibility {
+        static constexpr uint8_t kNoRays = 255;
+        std::array<uint8_t, 4> receiver{kNoRays, kNoRays, kNoRays, kNoRays};
+        std::array<uint8_t, 4> source{kNoRays, kNoRays, kNoRays, kNoRays};
+
+        static uint8_t encode(float V) {
+            return static_cast<uint8_t>(std::lround(std::clamp(V, 0.0f, 1.0f) * 254.0f));
+        }
+        // The children's visible fractions, `otherwise` where no ray fell in one.
+        static std::array<float, 4> decode(const std::array<uint8_t, 4>& codes, float otherwise) {
+            std::array<float, 4> V{};
+            for (size_t c = 0; c < V.size(); ++c)
+                V[c] = codes[c] == kNoRays ? otherwise : static_cast<float>(codes[c]) / 254.0f;
+            return V;
+        }
+        ChildVisibility reversed() const { return {source, receiver}; }
+    };
     struct Link {
         int source = -1;  // node gathered from
         float F = 0.0f;   // unoccluded form factor from the receiver to the source (its mean)
@@ -227,6 +250,7 @@ class RadiositySolver : public RadiositySolution {
         // to an even share (their visible fractions of the source over their mean), so that the
         // children hidden from the source get less; u[0] < 0 until set.
         std::array<float, 4> u{-1.0f, 0.0f, 0.0f, 0.0f};
+        ChildVisibility childV;  // for w and u, where the link is partly occluded
     };
     // A pair for the oracle; spread < 0: take the receiver-side spread from the kernel samples.
     struct RefinePair {
@@ -328,11 +352,8 @@ class RadiositySolver : public RadiositySolution {
     // With `report`, advances the current stage by one per element.
     void computeDirect(const std::vector<int>& elements, bool report = false);
     // Solution (HSA91 GatherRad, PushPullRad).
-    // Each adds the shadow rays it casts to `rays`.
-    std::array<float, 4> childVisibility(int parent, int other, bool parentReceives,
-                                         uint64_t& rays) const;
-    void setSourceWeights(int receiver, Link& link, uint64_t& rays) const;
-    void setReceiverWeights(int receiver, Link& link, uint64_t& rays) const;
+    void setSourceWeights(int receiver, Link& link) const;
+    void setReceiverWeights(int receiver, Link& link) const;
     void updateChildWeights();
     Color clusterRadianceToward(int cluster, const Vec3& toward) const;
     Color sourceRadiance(int receiver, const Link& link) const;
@@ -394,10 +415,10 @@ class RadiositySolver : public RadiositySolution {
     float formFactor(int receiver, int source, const KernelSamples* samples = nullptr) const;
     KernelSamples kernelSamples(int receiver, int source) const;
     Vec3 linearModel(int receiver, const KernelSamples& samples, float F, float& limiter) const;
-    // Adds the shadow rays it casts to `rays`; `adaptive` may stop after a few that agree.
-    // `samples` rays at most (0: visibility_samples).
+    // Adds the shadow rays it casts to `rays`; `adaptive` may stop after a few that agree. With
+    // `children`, also the ends' children's visible fractions.
     Color visibility(int receiver, int source, uint64_t& rays, bool adaptive,
-                     int samples = 0) const;
+                     ChildVisibility* children = nullptr) const;
     bool smallTransfer(int source, float Fmax) const;
 
     const Scene& scene_;
