@@ -24,11 +24,16 @@ ElementSample sampleElement(const Scene& scene, const RadiosityMesh& mesh, int e
 }
 
 void stratifiedElementSamples(const Scene& scene, const RadiosityMesh& mesh, int element,
-                              uint32_t seed, IVec2 key, std::span<ElementSample> out) {
+                              uint32_t seed, IVec2 key, std::span<ElementSample> out,
+                              std::span<uint8_t> children) {
+    assert(children.empty() || children.size() == out.size());
     Sampler sampler(seed);
     for (size_t k = 0; k < out.size(); ++k) {
         sampler.startPixelSample(key, static_cast<uint32_t>(k));
-        out[k] = sampleElement(scene, mesh, element, sampler.get2D());
+        const Vec2 u = sampler.get2D();
+        out[k] = sampleElement(scene, mesh, element, u);
+        if (!children.empty())
+            children[k] = static_cast<uint8_t>(RadiosityMesh::childAt(sampleUniformTriangle(u)));
     }
 }
 
@@ -86,22 +91,28 @@ bool hiddenByCoincident(const CoincidentFaces& coincident, const RadiosityMesh& 
                              2.0f * glm::dot(glm::abs(x.n), x.pError));
 }
 
-std::array<float, 2> exposedFractions(const Scene& scene, const RadiosityMesh& mesh, int element,
-                                      int samples, float gap, uint32_t seed,
-                                      const CoincidentFaces& coincident, uint64_t& rays) {
-    std::vector<ElementSample> points(static_cast<size_t>(samples));
-    stratifiedElementSamples(scene, mesh, element, seed, IVec2(element, 0), points);
-    std::array<int, 2> exposed{0, 0};
-    for (const ElementSample& x : points) {
+CoverSamples coverSamples(const Scene& scene, const RadiosityMesh& mesh, int element, int samples,
+                          float gap, uint32_t seed, const CoincidentFaces& coincident,
+                          uint64_t& rays) {
+    assert(samples >= 1 && samples <= CoverSamples::kMaxPoints);
+    CoverSamples c;
+    c.points.resize(static_cast<size_t>(samples));
+    c.child.resize(c.points.size());
+    c.sides.resize(c.points.size(), 0);
+    stratifiedElementSamples(scene, mesh, element, seed, IVec2(element, 0), c.points, c.child);
+    for (size_t k = 0; k < c.points.size(); ++k) {
+        const ElementSample& x = c.points[k];
         for (const bool front : {true, false}) {
             const bool covered =
                 hiddenByCoincident(coincident, mesh, element, front, x) ||
                 isCovered(scene, mesh, coincident, x, front ? x.n : -x.n, gap, rays);
-            exposed[front ? 0 : 1] += covered ? 0 : 1;
+            if (covered)
+                continue;
+            c.sides[k] |= front ? 1 : 2;
+            c.exposed[front ? 0 : 1].push_back(static_cast<uint16_t>(k));
         }
     }
-    return {static_cast<float>(exposed[0]) / static_cast<float>(samples),
-            static_cast<float>(exposed[1]) / static_cast<float>(samples)};
+    return c;
 }
 
 std::vector<const Light*> punctualLights(const Scene& scene) {

@@ -36,8 +36,10 @@ ElementSample sampleElement(const Scene& scene, const RadiosityMesh& mesh, int e
 // `key`, so that the first 2^m points of a power-of-2 count are stratified over the element.
 // `key` names the element (and whatever else should decorrelate the set, e.g. a shot), so that
 // the points are reproducible whatever the thread or the order of the calls.
+// With `children` (as many as `out`), also the child each point lies in (RadiosityMesh::childAt).
 void stratifiedElementSamples(const Scene& scene, const RadiosityMesh& mesh, int element,
-                              uint32_t seed, IVec2 key, std::span<ElementSample> out);
+                              uint32_t seed, IVec2 key, std::span<ElementSample> out,
+                              std::span<uint8_t> children = {});
 
 // Visible fraction between two elements from paired points on each (a[k] with b[k], equal
 // counts, at least one): the mean transmittance of the shadow rays between them
@@ -66,12 +68,28 @@ bool isCovered(const Scene& scene, const RadiosityMesh& mesh, const CoincidentFa
 bool hiddenByCoincident(const CoincidentFaces& coincident, const RadiosityMesh& mesh, int element,
                         bool front, const ElementSample& x);
 
-// The exposed fraction of each side of an element, [front, back], over `samples` stratified
-// points (stratifiedElementSamples with `seed`, "pixel" (element, 0)): a point is covered on a
-// side when isCovered says so or the side is hidden there by a coincident patch.
-std::array<float, 2> exposedFractions(const Scene& scene, const RadiosityMesh& mesh, int element,
-                                      int samples, float gap, uint32_t seed,
-                                      const CoincidentFaces& coincident, uint64_t& rays);
+// Stratified points of an element (stratifiedElementSamples with `seed`, "pixel" (element, 0)),
+// each with the child of the element it lies in (RadiosityMesh::childAt) and whether each side is
+// exposed there: a point is covered on a side when isCovered says so or the side is hidden there
+// by a coincident patch. Drawn once per partly covered element, they stand for its points
+// wherever its covered part must be told from its exposed part.
+struct CoverSamples {
+    static constexpr int kMaxPoints = 65536;
+    std::vector<ElementSample> points;
+    std::vector<uint8_t> child;
+    std::vector<uint8_t> sides;                    // per point: bit 0 front exposed, bit 1 back
+    std::array<std::vector<uint16_t>, 2> exposed;  // [front, back]: the points exposed there
+
+    bool isExposed(size_t point, bool front) const { return sides[point] & (front ? 1 : 2); }
+    float exposedFraction(bool front) const {
+        return static_cast<float>(exposed[front ? 0 : 1].size()) /
+               static_cast<float>(points.size());
+    }
+};
+// `samples` points, in [1, CoverSamples::kMaxPoints].
+CoverSamples coverSamples(const Scene& scene, const RadiosityMesh& mesh, int element, int samples,
+                          float gap, uint32_t seed, const CoincidentFaces& coincident,
+                          uint64_t& rays);
 
 // The scene's punctual (delta) lights: point, spot, directional.
 std::vector<const Light*> punctualLights(const Scene& scene);

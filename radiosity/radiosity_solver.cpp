@@ -44,10 +44,12 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <bit>
 #include <chrono>
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <optional>
 #include <sstream>
 #include <tuple>
 #include <unordered_map>
@@ -65,6 +67,7 @@ double channelSum(const Color& c) {
 constexpr uint32_t kVisibilitySeed = 0x9e3779b9u;
 constexpr uint32_t kDirectSeed = 0x85ebca6bu;
 constexpr uint32_t kFinalGatherSeed = 0xc2b2ae35u;
+constexpr uint32_t kCoverOffsetSeed = 0x27d4eb2fu;
 
 // Passes of the final gather's defect correction (finalGather), at most, and the relative change
 // of the correction below which they stop.
@@ -88,17 +91,26 @@ constexpr int kSubdivisionPasses = 4;
 // Shadow rays a link casts before deciding whether it needs all of visibility_samples.
 constexpr int kFirstVisibilityRays = 4;
 
-// Points a partly covered receiver may draw per shadow ray, for its exposed ones (visibility).
-constexpr int kCoveredDraws = 4;
+// Points a cluster may draw per shadow ray, for those whose side takes part (visibility).
+constexpr int kClusterDraws = 4;
 
 // Points per element whose exposed fraction is sampled (computeExposure): at least this many, and
 // at least one per smallest element's area, at most kMaxExposureSamples.
 constexpr int kExposureSamples = 16;
 constexpr int kMaxExposureSamples = 4096;
+static_assert(kMaxExposureSamples <= CoverSamples::kMaxPoints);
 
-// Points of a partly covered receiver that exposedFormFactor sorts by the side of the source's
-// plane they lie on.
-constexpr int kSidePlaneSamples = 64;
+// Points a partly covered element keeps at least (computeExposure), from which its links draw
+// their shadow rays' ends (visibility), 16 per link by default. Every link of a receiver draws
+// from the same points, so their quadrature error does not average out over its links as fresh
+// points' did: against the dense solve of HierarchicalRadiosity.AgreesWithFullMatrixSolve
+// (tests/radiosity_test.cpp), whose ceiling leaves beside its lamp are a strip's worth exposed,
+// the worst lit patch side differed by 1.00 % with 64, 1.02 % with 128 and 0.85 % with 256 (0.73
+// % with fresh points), the worst leaf side by 0.12, 0.10 and 0.087 of the mean (0.074).
+// At most kMaxExposureSamples rounded up to a power of two.
+constexpr int kCoverSamples = 256;
+static_assert(std::bit_ceil(static_cast<uint32_t>(kMaxExposureSamples)) <=
+              CoverSamples::kMaxPoints);
 
 // A gap narrower than this fraction of the smallest element's edge (the square root of its area)
 // covers the surface behind it (isCovered, element_sampling.h).
@@ -214,18 +226,34 @@ void RadiositySolver::resizeArrays() {
 // facing a sealed interior, sealed_interiors.h): an element side whose parent's side is wholly
 // exposed or wholly covered is so too (its parent's points,
 // at least one per smallest element, found no boundary of a covering object there); the others
-// are sampled (exposedFractions, with the points of the direct light, computeDirect, so that the
-// covered points are the same). Then every parent's fraction becomes its children's mean, so that
-// the children's exposed areas add up to their parent's and the push and pull keep the energy.
+// are sampled (coverSamples, with the points of the direct light, computeDirect, so that the
+// covered points are the same). An element with a partly covered side keeps its points
+// (coverSamples_), at least kCoverSamples of them. Then every parent's fraction becomes its
+// children's mean, so that the children's exposed areas add up to their parent's and the push and
+// pull keep the energy; a parent that becomes partly covered so gets points too.
 void RadiositySolver::computeExposure(const std::vector<int>& elements) {
     std::vector<int> sorted = elements;
     std::stable_sort(sorted.begin(), sorted.end(),
                      [&](int a, int b) { return mesh_.level(a) < mesh_.level(b); });
     tbb::combinable<uint64_t> rays([] { return uint64_t(0); });
+    const auto samplesOf = [&](int e) {
+        return static_cast<int>(std::clamp(std::ceil(mesh_.area(e) / mesh_.minElementArea(e)),
+                                           static_cast<float>(kExposureSamples),
+                                           static_cast<float>(kMaxExposureSamples)));
+    };
+    // A power of two, so that its aligned runs of 2^k points are stratified (visibility).
+    const auto keptSamples = [&](int e, uint64_t& count) {
+        const auto n = std::bit_ceil(static_cast<uint32_t>(std::max(samplesOf(e), kCoverSamples)));
+        return coverSamples(scene_, mesh_, e, static_cast<int>(n), coveringGap(e), kDirectSeed,
+                            coincident_, count);
+    };
+    const auto partly = [](float a) { return a > 0.0f && a < 1.0f; };
+    std::vector<std::optional<CoverSamples>> kept;
     for (size_t begin = 0; begin < sorted.size();) {
         size_t end = begin;
         while (end < sorted.size() && mesh_.level(sorted[end]) == mesh_.level(sorted[begin]))
             ++end;
+        kept.assign(end - begin, std::nullopt);
         tbb::parallel_for(begin, end, [&](size_t i) {
             const int e = sorted[i];
             const int parent = mesh_.parent(e);
@@ -240,20 +268,27 @@ void RadiositySolver::computeExposure(const std::vector<int>& elements) {
                     exposure_[node(e, side)] = exposure_[node(parent, side)];
                 return;
             }
-            const int samples = static_cast<int>(std::clamp(
-                std::ceil(mesh_.area(e) / mesh_.minElementArea(e)),
-                static_cast<float>(kExposureSamples), static_cast<float>(kMaxExposureSamples)));
-            const std::array<float, 2> a = exposedFractions(
-                scene_, mesh_, e, samples, coveringGap(e), kDirectSeed, coincident_, rays.local());
+            CoverSamples c = coverSamples(scene_, mesh_, e, samplesOf(e), coveringGap(e),
+                                          kDirectSeed, coincident_, rays.local());
+            if (partly(c.exposedFraction(true)) || partly(c.exposedFraction(false))) {
+                if (c.points.size() < static_cast<size_t>(kCoverSamples))
+                    c = keptSamples(e, rays.local());
+            }
             for (const bool side : {true, false}) {
                 const bool sealed = sealed_.faces(mesh_.sceneMesh(e), mesh_.sceneTriangle(e), side);
-                exposure_[node(e, side)] = sealed ? 0.0f : a[side ? 0 : 1];
+                exposure_[node(e, side)] = sealed ? 0.0f : c.exposedFraction(side);
             }
+            if (partly(c.exposedFraction(true)) || partly(c.exposedFraction(false)))
+                kept[i - begin] = std::move(c);
         });
+        for (size_t i = begin; i < end; ++i) {
+            if (kept[i - begin])
+                coverSamples_.insert_or_assign(sorted[i], std::move(*kept[i - begin]));
+        }
         begin = end;
     }
-    rays_ += rays.combine(std::plus<uint64_t>());
     // Children have larger ids than their parents.
+    std::vector<int> newlyPartly;
     for (size_t e = mesh_.elementCount(); e-- > 0;) {
         const int first = mesh_.firstChild(static_cast<int>(e));
         if (first < 0)
@@ -264,7 +299,17 @@ void RadiositySolver::computeExposure(const std::vector<int>& elements) {
                 sum += exposure_[node(c, side)];
             exposure_[node(static_cast<int>(e), side)] = sum / RadiosityMesh::kChildren;
         }
+        const int n = static_cast<int>(e);
+        if ((partlyCovered(node(n, true)) || partlyCovered(node(n, false))) &&
+            !coverSamples_.contains(n))
+            newlyPartly.push_back(n);
     }
+    kept.assign(newlyPartly.size(), std::nullopt);
+    tbb::parallel_for(size_t(0), newlyPartly.size(),
+                      [&](size_t i) { kept[i] = keptSamples(newlyPartly[i], rays.local()); });
+    for (size_t i = 0; i < newlyPartly.size(); ++i)
+        coverSamples_.insert_or_assign(newlyPartly[i], std::move(*kept[i]));
+    rays_ += rays.combine(std::plus<uint64_t>());
 }
 
 bool RadiositySolver::exposed(int n) const {
@@ -273,6 +318,13 @@ bool RadiositySolver::exposed(int n) const {
 
 bool RadiositySolver::partlyCovered(int n) const {
     return !isCluster(n) && exposure_[n] > 0.0f && exposure_[n] < 1.0f;
+}
+
+const CoverSamples* RadiositySolver::coverSamplesOf(int n) const {
+    if (!partlyCovered(n))
+        return nullptr;
+    const auto it = coverSamples_.find(element(n));
+    return it == coverSamples_.end() ? nullptr : &it->second;
 }
 
 float RadiositySolver::coveringGap(int e) const {
@@ -391,14 +443,19 @@ bool RadiositySolver::mayInteract(int receiver, int source) const {
 }
 
 // The accurate unoccluded form factor of a link: the area average over the receiver of the exact
-// point-to-polygon value (form_factor.h). The quadrature order follows the distance between the
-// elements relative to their size; measured against order 24 on random triangle pairs, order 4
-// is within 2e-5 from a centroid distance of twice the longer edge, order 6 within 2e-7 from one
-// edge; closer (adjacent) pairs take order 8, where the integrand is only Lipschitz: on 500 random
-// pairs of triangles sharing an edge, at angles from 11 to 166 degrees and against order 40,
-// order 8 is within 3.5e-4 on average (2.8e-2 at worst, for slivers) and order 10 within 1.5e-4
-// (1.2e-2); order 8 costs 64 point evaluations instead of 100 and keeps the closed furnace box
-// within its 1 % (tests/radiosity_test.cpp).
+// point-to-polygon value (form_factor.h). The quadrature order (Gauss-Legendre points per axis of
+// the collapsed map, order^2 point values) follows the centroid distance d between the elements
+// relative to their size s (the longer of their longest edges). Measured against order 24 on 400
+// random pairs of triangles in random orientations per distance, mean and largest relative error:
+// order 3 at d = 3 s 2.6e-6 and 3.5e-5; order 4 at 1.5 s 3.8e-6 and 6e-5; order 5 at s 1.3e-5
+// and 1.0e-3. Each order is used from that distance on, so no link's error exceeds that of the
+// seven-point rule below, which the far pairs have taken since it was measured (mean 5e-5, largest
+// 1.6e-3), and all are far under what a link's visible fraction from 16 shadow rays can resolve.
+// Closer (adjacent) pairs take order 8, where the integrand is only Lipschitz: on 500 random pairs
+// of triangles sharing an edge, at angles from 11 to 166 degrees and against order 40, order 8 is
+// within 3.5e-4 on average (2.8e-2 at worst, for slivers) and order 10 within 1.5e-4 (1.2e-2);
+// order 8 costs 64 point evaluations instead of 100 and keeps the closed furnace box within its
+// 1 % (tests/radiosity_test.cpp).
 //
 // Far pairs wholly in front of each other (centroid distance at least kFarLink longest edges)
 // reuse the oracle's seven point values instead: the classical seven-point rule of degree 3 on the
@@ -423,7 +480,10 @@ float RadiositySolver::formFactor(int receiver, int source, const KernelSamples*
         return (k.corner[0] + k.corner[1] + k.corner[2]) / 20.0f +
                (k.mid[0] + k.mid[1] + k.mid[2]) * (2.0f / 15.0f) + k.centroid * (9.0f / 20.0f);
     }
-    const int order = distance >= 2.0f * size ? 4 : distance >= size ? 6 : 8;
+    const int order = distance >= 3.0f * size   ? 3
+                      : distance >= 1.5f * size ? 4
+                      : distance >= size        ? 5
+                                                : 8;
     return static_cast<float>(areaToAreaFormFactor(cr, cs, order));
 }
 
@@ -504,13 +564,48 @@ Color RadiositySolver::visibility(int receiver, int source, uint64_t& rays, bool
                                   ChildVisibility* children) const {
     const int n = settings_.visibilitySamples;
     Sampler sampler(kVisibilitySeed);
+    // Sample coordinates for the (IVec2) pixel of the sequence: cluster ids are negative.
+    const IVec2 pixel(receiver < 0 ? 0x40000000 - receiver : receiver,
+                      source < 0 ? 0x40000000 - source : source);
     struct NodeSample {
         ElementSample x;
         int element;
-        int child;  // of an element node, RadiosityMesh::childAt; -1 for a cluster
+        int child;            // of an element node, RadiosityMesh::childAt; -1 for a cluster
+        bool hidden = false;  // a covered point of a source
     };
-    const auto sample = [&](int node) {
+    // A partly covered end (exposure_) takes its points from its cover samples: the receiver
+    // those exposed on its side, so that V is the visible fraction of its exposed part, as its
+    // radiance is that part's; the source any, its covered ones hidden, though a shadow ray may
+    // reach them from inside the closed object that covers them (from the inner sides of a block,
+    // the floor under it). Ray k takes the point k after an offset drawn per pair. The cover
+    // samples are a power-of-two prefix of a (0,2)-sequence, whose aligned runs of 2^j points are
+    // each stratified over the element: the source's offset is a multiple of the rays' power of
+    // two, so its points are as stratified as fresh ones. Random points would leave the few pairs
+    // that face each other across a straddled plane (the floor under a block, from the block's
+    // face) to chance, and where none did, the link took the visible fraction of the pairs
+    // behind it (estimate, below): the short block's face lost 8 % of its light.
+    const CoverSamples* receiverCover = coverSamplesOf(receiver);
+    const CoverSamples* sourceCover = coverSamplesOf(source);
+    Sampler offsets(kCoverOffsetSeed);
+    offsets.startPixelSample(pixel, 0);
+    const Vec2 offset = offsets.get2D();
+    const auto coverSample = [&](int node, const CoverSamples& cover, uint32_t k, bool receiving) {
+        const std::vector<uint16_t>& exposed = cover.exposed[front(node) ? 0 : 1];
+        if (receiving && !exposed.empty()) {
+            const size_t m = exposed.size();
+            const size_t point = exposed[(static_cast<size_t>(offset.x * m) + k) % m];
+            return NodeSample{cover.points[point], element(node), cover.child[point], false};
+        }
+        const size_t m = cover.points.size();
+        const size_t run = std::min(m, std::bit_ceil(static_cast<size_t>(n)));
+        const size_t point = (static_cast<size_t>(offset.y * (m / run)) * run + k) % m;
+        return NodeSample{cover.points[point], element(node), cover.child[point],
+                          !receiving && !cover.isExposed(point, front(node))};
+    };
+    const auto sample = [&](int node, const CoverSamples* cover, bool receiving, uint32_t k) {
         Vec2 u = sampler.get2D();
+        if (cover)
+            return coverSample(node, *cover, k, receiving);
         if (!isCluster(node))
             return NodeSample{sampleElement(scene_, mesh_, element(node), u), element(node),
                               RadiosityMesh::childAt(sampleUniformTriangle(u))};
@@ -531,9 +626,6 @@ Color RadiositySolver::visibility(int receiver, int source, uint64_t& rays, bool
             return a == 1.0f;
         return !covered(s.element, s.x, side ? s.x.n : -s.x.n, rays);
     };
-    // Sample coordinates for the (IVec2) pixel of the sequence: cluster ids are negative.
-    const IVec2 pixel(receiver < 0 ? 0x40000000 - receiver : receiver,
-                      source < 0 ? 0x40000000 - source : source);
     // The side normals of element nodes; a cluster has no side (zero: every pair counts).
     const auto sideNormal = [&](int node) {
         if (isCluster(node))
@@ -541,12 +633,6 @@ Color RadiositySolver::visibility(int receiver, int source, uint64_t& rays, bool
         return front(node) ? mesh_.normal(element(node)) : -mesh_.normal(element(node));
     };
     const Vec3 nr = sideNormal(receiver), ns = sideNormal(source);
-    // A partly covered receiver (exposure_) counts only the pairs from its exposed points, so that
-    // V is the visible fraction of its exposed part, as its radiance is that part's: up to
-    // kCoveredDraws times as many points are drawn. The covered points of a partly covered source
-    // are hidden, though a shadow ray may reach them from inside the closed object that covers
-    // them (from the inner sides of a block, the floor under it).
-    const bool receiverCovered = partlyCovered(receiver), sourceCovered = partlyCovered(source);
     Color sum(0.0f), facingSum(0.0f);
     int k = 0, counted = 0, facing = 0;
     // Per end (receiver, source) and child: the sums of T's channel means and the ray counts, over
@@ -571,16 +657,15 @@ Color RadiositySolver::visibility(int receiver, int source, uint64_t& rays, bool
         }
     };
     const auto cast = [&](int until) {
-        for (; counted < until && k < kCoveredDraws * until; ++k) {
+        for (; counted < until && k < kClusterDraws * until; ++k) {
             sampler.startPixelSample(pixel, static_cast<uint32_t>(k));
-            const NodeSample xs = sample(receiver), ys = sample(source);
+            const NodeSample xs = sample(receiver, receiverCover, true, static_cast<uint32_t>(k)),
+                             ys = sample(source, sourceCover, false, static_cast<uint32_t>(k));
             const ElementSample &x = xs.x, &y = ys.x;
-            if (receiverCovered && covered(element(receiver), x, nr, rays))
-                continue;
             if (!takesPart(receiver, xs, y.p) || !takesPart(source, ys, x.p))
                 continue;
             ++counted;
-            const Color T = sourceCovered && covered(element(source), y, ns, rays)
+            const Color T = ys.hidden
                                 ? Color(0.0f)
                                 : scene_.transmittance(x.p, x.pError, x.n, y.p, y.pError, y.n);
             sum += T;
@@ -635,33 +720,29 @@ Color RadiositySolver::visibility(int receiver, int source, uint64_t& rays, bool
 // floor under a block, from the block's faces), F over the whole receiver counts them as zero,
 // and the exposed strip along the block's foot got only a fraction a of its light. With the
 // points of the receiver in front of the source's plane taken to share one mean F (its ratio
-// estimator over kSidePlaneSamples points), the exposed part's F is F P(front | exposed) /
+// estimator over the receiver's cover samples), the exposed part's F is F P(front | exposed) /
 // P(front): F itself when all points lie on one side.
-float RadiositySolver::exposedFormFactor(int receiver, int source, float F, uint64_t& rays) const {
-    if (isCluster(receiver) || isCluster(source) || !partlyCovered(receiver) || !(F > 0.0f))
+float RadiositySolver::exposedFormFactor(int receiver, int source, float F) const {
+    const CoverSamples* cover = coverSamplesOf(receiver);
+    if (!cover || isCluster(source) || !(F > 0.0f))
         return F;
-    const int er = element(receiver), es = element(source);
-    const Vec3 nr = front(receiver) ? mesh_.normal(er) : -mesh_.normal(er);
+    const int es = element(source);
     const Vec3 ns = front(source) ? mesh_.normal(es) : -mesh_.normal(es);
     const Vec3 origin = mesh_.corners(es)[0];
-    std::array<ElementSample, kSidePlaneSamples> points;
-    stratifiedElementSamples(scene_, mesh_, er, kDirectSeed, IVec2(er, 0), points);
-    int inFront = 0;
-    for (const ElementSample& x : points)
-        inFront += glm::dot(ns, x.p - origin) > 0.0f ? 1 : 0;
-    if (inFront == 0 || inFront == kSidePlaneSamples)
+    const auto inFrontOfSource = [&](size_t point) {
+        return glm::dot(ns, cover->points[point].p - origin) > 0.0f;
+    };
+    size_t inFront = 0;
+    for (size_t k = 0; k < cover->points.size(); ++k)
+        inFront += inFrontOfSource(k) ? 1 : 0;
+    const std::vector<uint16_t>& exposed = cover->exposed[front(receiver) ? 0 : 1];
+    if (inFront == 0 || inFront == cover->points.size() || exposed.empty())
         return F;
-    int exposed = 0, exposedInFront = 0;
-    for (const ElementSample& x : points) {
-        if (covered(er, x, nr, rays))
-            continue;
-        ++exposed;
-        exposedInFront += glm::dot(ns, x.p - origin) > 0.0f ? 1 : 0;
-    }
-    if (exposed == 0)
-        return F;
-    return F * (static_cast<float>(exposedInFront) / static_cast<float>(exposed)) /
-           (static_cast<float>(inFront) / static_cast<float>(kSidePlaneSamples));
+    size_t exposedInFront = 0;
+    for (const uint16_t k : exposed)
+        exposedInFront += inFrontOfSource(k) ? 1 : 0;
+    return F * (static_cast<float>(exposedInFront) / static_cast<float>(exposed.size())) /
+           (static_cast<float>(inFront) / static_cast<float>(cover->points.size()));
 }
 
 // --- Direct light of the punctual lights ---------------------------------------------------
@@ -962,7 +1043,7 @@ void RadiositySolver::evaluateLinks(const std::vector<PendingLink>& pending) {
             if (maxComponent(V[i]) <= 0.0f)
                 return;
             F[i] = exposedFormFactor(p.receiver, p.source,
-                                     formFactor(p.receiver, p.source, &p.samples), rays.local());
+                                     formFactor(p.receiver, p.source, &p.samples));
             Fmax[i] = glm::max(p.samples.max(), F[i]);
             if (j >= 0) {
                 const size_t r = static_cast<size_t>(j);
@@ -972,7 +1053,7 @@ void RadiositySolver::evaluateLinks(const std::vector<PendingLink>& pending) {
             return;
         } else {
             F[i] = exposedFormFactor(p.receiver, p.source,
-                                     formFactor(p.receiver, p.source, &p.samples), rays.local());
+                                     formFactor(p.receiver, p.source, &p.samples));
             Fmax[i] = glm::max(p.samples.max(), F[i]);
         }
         if (!(F[i] > 0.0f))
@@ -2204,8 +2285,7 @@ std::vector<Color> RadiositySolver::solveFullMatrix() const {
             if (!mayInteract(nodes[i], nodes[j]))
                 continue;
             uint64_t rays = 0;
-            const float F =
-                exposedFormFactor(nodes[i], nodes[j], formFactor(nodes[i], nodes[j]), rays);
+            const float F = exposedFormFactor(nodes[i], nodes[j], formFactor(nodes[i], nodes[j]));
             if (F <= 0.0f)
                 continue;
             const Color K = F * visibility(nodes[i], nodes[j], rays, false);

@@ -66,6 +66,7 @@
 #include "core/pass.h"
 #include "radiosity/cluster_tree.h"
 #include "radiosity/coincident_faces.h"
+#include "radiosity/element_sampling.h"
 #include "radiosity/radiosity_mesh.h"
 #include "radiosity/radiosity_solution.h"
 #include "radiosity/sealed_interiors.h"
@@ -80,13 +81,13 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <unordered_map>
 #include <utility>
 #include <vector>
 
 namespace penumbra {
 
 class Scene;
-struct ElementSample;
 struct MeshedHit;
 
 // The parameters of the radiosity pass; their table (key, type, default, meaning) is at the top of
@@ -313,8 +314,9 @@ class RadiositySolver : public RadiositySolution {
     bool exposed(int node) const;
     // Whether the node is an element side with an exposed fraction strictly between 0 and 1.
     bool partlyCovered(int node) const;
-    // Adds the shadow rays it casts to `rays`.
-    float exposedFormFactor(int receiver, int source, float F, uint64_t& rays) const;
+    // The cover samples of a partly covered node's element, nullptr for any other node.
+    const CoverSamples* coverSamplesOf(int node) const;
+    float exposedFormFactor(int receiver, int source, float F) const;
     // The mean over the exposed part of element side n of one value per child (values[c] of
     // child c), weighted by the children's exposed fractions; their plain mean if none is exposed.
     Color exposedMean(int n, const std::array<Color, 4>& values) const;
@@ -438,10 +440,13 @@ class RadiositySolver : public RadiositySolution {
     std::vector<Color> D_;            // punctual direct irradiance / pi, its exposed part's mean
     std::vector<float> Dspread_;      // spread of max(D) over the element's sample points
     std::vector<Color> direct_;       // the first reflection of the sources (elementDirect)
-    // The fraction of the element side's area that is not covered (exposedFractions,
+    // The fraction of the element side's area that is not covered (coverSamples,
     // element_sampling.h): a leaf's L, H and D are the means over that part, the only one that
     // sends or receives light; a parent's is the mean of its children's.
     std::vector<float> exposure_;
+    // The points of every element with a partly covered side, with where they are covered, so
+    // that the shadow rays of its links need not probe for covers at their own points.
+    std::unordered_map<int, CoverSamples> coverSamples_;
     // What the final gather adds to each leaf side's radiance beyond the links' transfer
     // (finalGather in radiosity_solver.cpp); empty without a final gather.
     std::vector<Color> correction_;
