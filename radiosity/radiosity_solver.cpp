@@ -541,6 +541,50 @@ Vec3 RadiositySolver::linearModel(int receiver, const KernelSamples& k, float F,
     return gradient * (limiter / F);
 }
 
+namespace {
+
+// The visible fractions of the children of a link's two ends (Link::childV) from the link's own
+// rays: per end (0 the receiver, 1 the source) and child, the sums of the rays' transmittances
+// (their channels' mean) and the ray counts, over all pairs and over the pairs facing each other.
+class ChildTally {
+  public:
+    // A ray between the children (RadiosityMesh::childAt; -1 for a cluster end) with
+    // transmittance T.
+    void add(int receiverChild, int sourceChild, const Color& T, bool facing) {
+        const float mean = (T.r + T.g + T.b) / 3.0f;
+        const std::array<int, 2> child{receiverChild, sourceChild};
+        for (size_t end = 0; end < 2; ++end) {
+            if (child[end] < 0)
+                continue;
+            const auto c = static_cast<size_t>(child[end]);
+            all_.sum[end][c] += mean;
+            ++all_.count[end][c];
+            if (facing) {
+                facing_.sum[end][c] += mean;
+                ++facing_.count[end][c];
+            }
+        }
+    }
+    // Each child's mean over the facing pairs or all, -1 where no ray fell in it.
+    std::array<float, 4> means(size_t end, bool facingOnly) const {
+        const Sums& s = facingOnly ? facing_ : all_;
+        std::array<float, 4> V{};
+        for (size_t c = 0; c < V.size(); ++c)
+            V[c] =
+                s.count[end][c] > 0 ? s.sum[end][c] / static_cast<float>(s.count[end][c]) : -1.0f;
+        return V;
+    }
+
+  private:
+    struct Sums {
+        std::array<std::array<float, 4>, 2> sum{};
+        std::array<std::array<int, 4>, 2> count{};
+    };
+    Sums all_, facing_;
+};
+
+}  // namespace
+
 // Visible fraction between two element sides: the mean transmittance of n shadow rays between
 // paired points of the two elements. The points are stratified: sample k on each element is point
 // k of an Owen-scrambled (0,2)-sequence (core/sampler.h) mapped to the triangle by Heitz's
@@ -635,27 +679,7 @@ Color RadiositySolver::visibility(int receiver, int source, uint64_t& rays, bool
     const Vec3 nr = sideNormal(receiver), ns = sideNormal(source);
     Color sum(0.0f), facingSum(0.0f);
     int k = 0, counted = 0, facing = 0;
-    // Per end (receiver, source) and child: the sums of T's channel means and the ray counts, over
-    // all pairs and over the facing ones.
-    struct ChildTally {
-        std::array<std::array<float, 4>, 2> sum{}, facingSum{};
-        std::array<std::array<int, 4>, 2> count{}, facing{};
-    } tally;
-    const auto addToChildren = [&](const NodeSample& xs, const NodeSample& ys, const Color& T,
-                                   bool isFacing) {
-        const float mean = (T.r + T.g + T.b) / 3.0f;
-        for (int end = 0; end < 2; ++end) {
-            const int c = (end == 0 ? xs : ys).child;
-            if (c < 0)
-                continue;
-            tally.sum[end][c] += mean;
-            ++tally.count[end][c];
-            if (isFacing) {
-                tally.facingSum[end][c] += mean;
-                ++tally.facing[end][c];
-            }
-        }
-    };
+    ChildTally tally;
     const auto cast = [&](int until) {
         for (; counted < until && k < kClusterDraws * until; ++k) {
             sampler.startPixelSample(pixel, static_cast<uint32_t>(k));
@@ -676,7 +700,7 @@ Color RadiositySolver::visibility(int receiver, int source, uint64_t& rays, bool
                 ++facing;
             }
             if (children)
-                addToChildren(xs, ys, T, isFacing);
+                tally.add(xs.child, ys.child, T, isFacing);
         }
     };
     // The form factor integrates only over the pairs of points in front of each other
@@ -699,17 +723,8 @@ Color RadiositySolver::visibility(int receiver, int source, uint64_t& rays, bool
     rays += static_cast<uint64_t>(counted);
     if (children) {
         // Over the same pairs as the link's estimate.
-        const auto& childSum = facing > 0 ? tally.facingSum : tally.sum;
-        const auto& childCount = facing > 0 ? tally.facing : tally.count;
-        for (int c = 0; c < RadiosityMesh::kChildren; ++c) {
-            const auto code = [&](int end) {
-                const int m = childCount[end][c];
-                return m > 0 ? ChildVisibility::encode(childSum[end][c] / static_cast<float>(m))
-                             : ChildVisibility::kNoRays;
-            };
-            children->receiver[c] = code(0);
-            children->source[c] = code(1);
-        }
+        children->receiver = ChildVisibility::encode(tally.means(0, facing > 0));
+        children->source = ChildVisibility::encode(tally.means(1, facing > 0));
     }
     return estimate();
 }

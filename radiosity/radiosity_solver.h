@@ -222,8 +222,14 @@ class RadiositySolver : public RadiositySolution {
         std::array<uint8_t, 4> receiver{kNoRays, kNoRays, kNoRays, kNoRays};
         std::array<uint8_t, 4> source{kNoRays, kNoRays, kNoRays, kNoRays};
 
-        static uint8_t encode(float V) {
-            return static_cast<uint8_t>(std::lround(std::clamp(V, 0.0f, 1.0f) * 254.0f));
+        // From the children's fractions, negative where no ray fell in one.
+        static std::array<uint8_t, 4> encode(const std::array<float, 4>& V) {
+            std::array<uint8_t, 4> codes{};
+            for (size_t c = 0; c < V.size(); ++c)
+                codes[c] = V[c] < 0.0f
+                               ? kNoRays
+                               : static_cast<uint8_t>(std::lround(std::min(V[c], 1.0f) * 254.0f));
+            return codes;
         }
         // The children's visible fractions, `otherwise` where no ray fell in one.
         static std::array<float, 4> decode(const std::array<uint8_t, 4>& codes, float otherwise) {
