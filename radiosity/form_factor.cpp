@@ -3,6 +3,7 @@
 
 #include <glm/gtc/constants.hpp>
 
+#include <array>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -102,13 +103,27 @@ DVec3 newellNormal(std::span<const DVec3> polygon) {
     return sum;
 }
 
-std::vector<DVec3> toDouble(std::span<const Vec3> polygon) {
-    std::vector<DVec3> out;
-    out.reserve(polygon.size());
-    for (const Vec3& v : polygon)
-        out.emplace_back(v);
-    return out;
-}
+// A polygon's vertices in double precision: on the stack for up to kStackVertices (the solver's
+// triangles, called millions of times), on the heap beyond.
+class DoublePolygon {
+  public:
+    explicit DoublePolygon(std::span<const Vec3> polygon) : size_(polygon.size()) {
+        if (size_ > kStackVertices)
+            heap_.resize(size_);
+        DVec3* out = size_ > kStackVertices ? heap_.data() : stack_.data();
+        for (size_t i = 0; i < size_; ++i)
+            out[i] = DVec3(polygon[i]);
+    }
+    std::span<const DVec3> span() const {
+        return {size_ > kStackVertices ? heap_.data() : stack_.data(), size_};
+    }
+
+  private:
+    static constexpr size_t kStackVertices = 8;
+    size_t size_;
+    std::array<DVec3, kStackVertices> stack_;
+    std::vector<DVec3> heap_;
+};
 
 // Gauss-Legendre rule with n points mapped to [0, 1] (weights sum to 1). Nodes are the roots of
 // the Legendre polynomial P_n, found by Newton's method on the three-term recurrence
@@ -145,6 +160,19 @@ QuadratureRule gaussLegendre(int n) {
         rule.w[i] = rule.w[n - 1 - i] = weight;
     }
     return rule;
+}
+
+// The rules of orders up to kCachedOrders, computed once (a function-local static is initialised
+// once, thread-safely): the solver asks for them millions of times.
+constexpr int kCachedOrders = 16;
+const QuadratureRule& cachedGaussLegendre(int n) {
+    static const std::array<QuadratureRule, kCachedOrders + 1> rules = [] {
+        std::array<QuadratureRule, kCachedOrders + 1> r;
+        for (int order = 1; order <= kCachedOrders; ++order)
+            r[static_cast<size_t>(order)] = gaussLegendre(order);
+        return r;
+    }();
+    return rules[static_cast<size_t>(n)];
 }
 
 // int_T f dA over a triangle by the collapsed map of the unit square (Duffy 1982, "Quadrature
@@ -204,8 +232,7 @@ double pointToPolygonFormFactor(const Vec3& p, const Vec3& n, std::span<const Ve
     const double length = glm::length(nd);
     if (!(length > 0.0))
         return 0.0;
-    const std::vector<DVec3> polygonD = toDouble(polygon);
-    return pointToPolygon(DVec3(p), nd / length, polygonD);
+    return pointToPolygon(DVec3(p), nd / length, DoublePolygon(polygon).span());
 }
 
 double areaToAreaFormFactor(std::span<const Vec3> from, std::span<const Vec3> to, int order) {
@@ -214,18 +241,22 @@ double areaToAreaFormFactor(std::span<const Vec3> from, std::span<const Vec3> to
                                     std::to_string(order));
     if (from.size() < 3 || to.size() < 3)
         return 0.0;
-    const std::vector<DVec3> fromD = toDouble(from), toD = toDouble(to);
+    const DoublePolygon fromPolygon(from), toPolygon(to);
+    const std::span<const DVec3> fromD = fromPolygon.span(), toD = toPolygon.span();
     const DVec3 fromNormal = newellNormal(fromD), toNormal = newellNormal(toD);
     const double fromArea = 0.5 * glm::length(fromNormal);
     if (!(fromArea > 0.0) || !(glm::length(toNormal) > 0.0))
         return 0.0;
     const DVec3 nFrom = glm::normalize(fromNormal);
     // Only the part of `from` in front of `to` sees its front side.
+    // A convex polygon clipped by a plane gains at most one vertex.
     std::vector<DVec3> visible;
+    visible.reserve(from.size() + 1);
     if (!clipToHalfSpace(fromD, toD[0], glm::normalize(toNormal),
                          [&](const DVec3& x) { visible.push_back(x); }))
         return 0.0;
-    const QuadratureRule rule = gaussLegendre(order);
+    const QuadratureRule uncached = order > kCachedOrders ? gaussLegendre(order) : QuadratureRule{};
+    const QuadratureRule& rule = order > kCachedOrders ? uncached : cachedGaussLegendre(order);
     const double integral = integratePolygon(
         visible, rule, [&](const DVec3& x) { return pointToPolygon(x, nFrom, toD); });
     return integral / fromArea;
