@@ -680,6 +680,17 @@ Color RadiositySolver::visibility(int receiver, int source, uint64_t& rays, bool
     Color sum(0.0f), facingSum(0.0f);
     int k = 0, counted = 0, facing = 0;
     ChildTally tally;
+    // The form factor integrates only over the pairs of points in front of each other
+    // (areaToAreaFormFactor), so the visible fraction that multiplies it is taken over the same
+    // pairs. Over all pairs it would also count those that leave a side backwards through its own
+    // surface, unoccluded: for an element whose source straddles its plane (the inside of a box
+    // standing on a floor that runs under it) that made the visible fraction of its hidden part
+    // too large and that of its facing part too small. A pair that does not face is known so
+    // before its ray: it is skipped and another drawn (up to kClusterDraws per ray), so that the
+    // rays go to the pairs that count. Only if none of the draws faces does the link take all
+    // pairs; before, a straddling pair whose few facing pairs the draws missed took the pairs
+    // behind the plane, often all hidden, and lost the link.
+    bool facingOnly = true;
     const auto cast = [&](int until) {
         for (; counted < until && k < kClusterDraws * until; ++k) {
             sampler.startPixelSample(pixel, static_cast<uint32_t>(k));
@@ -688,13 +699,15 @@ Color RadiositySolver::visibility(int receiver, int source, uint64_t& rays, bool
             const ElementSample &x = xs.x, &y = ys.x;
             if (!takesPart(receiver, xs, y.p) || !takesPart(source, ys, x.p))
                 continue;
+            const bool isFacing =
+                glm::dot(nr, y.p - x.p) >= 0.0f && glm::dot(ns, x.p - y.p) >= 0.0f;
+            if (facingOnly && !isFacing)
+                continue;
             ++counted;
             const Color T = ys.hidden
                                 ? Color(0.0f)
                                 : scene_.transmittance(x.p, x.pError, x.n, y.p, y.pError, y.n);
             sum += T;
-            const bool isFacing =
-                glm::dot(nr, y.p - x.p) >= 0.0f && glm::dot(ns, x.p - y.p) >= 0.0f;
             if (isFacing) {
                 facingSum += T;
                 ++facing;
@@ -703,18 +716,18 @@ Color RadiositySolver::visibility(int receiver, int source, uint64_t& rays, bool
                 tally.add(xs.child, ys.child, T, isFacing);
         }
     };
-    // The form factor integrates only over the pairs of points in front of each other
-    // (areaToAreaFormFactor), so the visible fraction that multiplies it is taken over the same
-    // pairs. Over all pairs it would also count those that leave a side backwards through its own
-    // surface, unoccluded: for an element whose source straddles its plane (the inside of a box
-    // standing on a floor that runs under it) that made the visible fraction of its hidden part
-    // too large and that of its facing part too small.
     const auto estimate = [&] {
         if (facing > 0)
             return facingSum / static_cast<float>(facing);
         return counted > 0 ? sum / static_cast<float>(counted) : Color(0.0f);
     };
-    cast(adaptive ? std::min(n, kFirstVisibilityRays) : n);
+    const int firstRays = adaptive ? std::min(n, kFirstVisibilityRays) : n;
+    cast(firstRays);
+    if (counted == 0) {
+        facingOnly = false;
+        k = 0;
+        cast(firstRays);
+    }
     const Color first = estimate();
     const float firstSum = first.r + first.g + first.b;
     const bool agree = firstSum == 0.0f || firstSum == 3.0f;
