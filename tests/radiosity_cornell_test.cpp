@@ -65,7 +65,10 @@ TEST(RadiosityCornellBox, EveryWallAndBlockFaceAgreesWithTheReference) {
     // (exceedsThreshold in radiosity_solver.cpp), and the faces converge to the reference as
     // epsilon shrinks: [-2.9 %, +1.8 %] at the default 0.01 (the short block's front, -2.3 to
     // -2.9 %, converges from below), [-1.8 %, +0.2 %] at 0.005, [-0.9 %, +0.1 %] at 0.00125. The
-    // test runs at the scene's own script's 0.005 and holds the 2 %.
+    // test runs at the scene's own script's 0.005 and holds the 2 %. Since a link's rays
+    // go only to pairs of points that face each other (visibility() in radiosity_solver.cpp), the
+    // links that straddle a block's foot are no longer dropped when their draws missed the few
+    // facing pairs: [-1.0 %, +0.6 %] at 0.005.
     constexpr double kTolerance = 0.02;
     int regions = 0;
     for (const auto& [mesh, pixels] : p.pixels) {
