@@ -68,8 +68,9 @@ TEST(RadiosityCornellBox, EveryWallAndBlockFaceAgreesWithTheReference) {
     // test runs at the scene's own script's 0.005 and holds the 2 %. Since a link's rays
     // go only to pairs of points that face each other (visibility() in radiosity_solver.cpp), the
     // links that straddle a block's foot are no longer dropped when their draws missed the few
-    // facing pairs: [-1.0 %, +0.6 %] at 0.005.
-    constexpr double kTolerance = 0.02;
+    // facing pairs: [-1.0 %, +0.6 %] at 0.005. The bound is 1.5 %, tighter than the 2 %,
+    // so that losing that again fails here (the short block's front face was -1.7 % before).
+    constexpr double kTolerance = 0.015;
     int regions = 0;
     for (const auto& [mesh, pixels] : p.pixels) {
         if (pixels < kMinPixels)
