@@ -85,6 +85,14 @@ struct CoverSamples {
         return static_cast<float>(exposed[front ? 0 : 1].size()) /
                static_cast<float>(points.size());
     }
+    // Whether a side is exposed at some points and covered at others.
+    bool partlyCovered() const {
+        for (const auto& side : exposed) {
+            if (!side.empty() && side.size() < points.size())
+                return true;
+        }
+        return false;
+    }
 };
 // `samples` points, in [1, CoverSamples::kMaxPoints].
 CoverSamples coverSamples(const Scene& scene, const RadiosityMesh& mesh, int element, int samples,

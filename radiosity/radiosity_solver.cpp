@@ -91,14 +91,14 @@ constexpr int kSubdivisionPasses = 4;
 // Shadow rays a link casts before deciding whether it needs all of visibility_samples.
 constexpr int kFirstVisibilityRays = 4;
 
-// Points a cluster may draw per shadow ray, for those whose side takes part (visibility).
-constexpr int kClusterDraws = 4;
+// Pairs of points visibility() may draw per shadow ray: it skips, before their rays, the pairs
+// that do not face each other and those whose cluster side does not take part.
+constexpr int kDrawsPerRay = 4;
 
 // Points per element whose exposed fraction is sampled (computeExposure): at least this many, and
 // at least one per smallest element's area, at most kMaxExposureSamples.
 constexpr int kExposureSamples = 16;
 constexpr int kMaxExposureSamples = 4096;
-static_assert(kMaxExposureSamples <= CoverSamples::kMaxPoints);
 
 // Points a partly covered element keeps at least (computeExposure), from which its links draw
 // their shadow rays' ends (visibility), 16 per link by default. Every link of a receiver draws
@@ -247,7 +247,6 @@ void RadiositySolver::computeExposure(const std::vector<int>& elements) {
         return coverSamples(scene_, mesh_, e, static_cast<int>(n), coveringGap(e), kDirectSeed,
                             coincident_, count);
     };
-    const auto partly = [](float a) { return a > 0.0f && a < 1.0f; };
     std::vector<std::optional<CoverSamples>> kept;
     for (size_t begin = 0; begin < sorted.size();) {
         size_t end = begin;
@@ -270,15 +269,14 @@ void RadiositySolver::computeExposure(const std::vector<int>& elements) {
             }
             CoverSamples c = coverSamples(scene_, mesh_, e, samplesOf(e), coveringGap(e),
                                           kDirectSeed, coincident_, rays.local());
-            if (partly(c.exposedFraction(true)) || partly(c.exposedFraction(false))) {
-                if (c.points.size() < static_cast<size_t>(kCoverSamples))
-                    c = keptSamples(e, rays.local());
-            }
+            const bool partly = c.partlyCovered();
+            if (partly && c.points.size() < static_cast<size_t>(kCoverSamples))
+                c = keptSamples(e, rays.local());
             for (const bool side : {true, false}) {
                 const bool sealed = sealed_.faces(mesh_.sceneMesh(e), mesh_.sceneTriangle(e), side);
                 exposure_[node(e, side)] = sealed ? 0.0f : c.exposedFraction(side);
             }
-            if (partly(c.exposedFraction(true)) || partly(c.exposedFraction(false)))
+            if (partly)
                 kept[i - begin] = std::move(c);
         });
         for (size_t i = begin; i < end; ++i) {
@@ -543,6 +541,13 @@ Vec3 RadiositySolver::linearModel(int receiver, const KernelSamples& k, float F,
 
 namespace {
 
+// The pair's offset into its ends' cover samples (visibility), one per pair of nodes `pixel`.
+Vec2 coverOffset(IVec2 pixel) {
+    Sampler offsets(kCoverOffsetSeed);
+    offsets.startPixelSample(pixel, 0);
+    return offsets.get2D();
+}
+
 // The visible fractions of the children of a link's two ends (Link::childV) from the link's own
 // rays: per end (0 the receiver, 1 the source) and child, the sums of the rays' transmittances
 // (their channels' mean) and the ray counts, over all pairs and over the pairs facing each other.
@@ -630,9 +635,7 @@ Color RadiositySolver::visibility(int receiver, int source, uint64_t& rays, bool
     // behind it (estimate, below): the short block's face lost 8 % of its light.
     const CoverSamples* receiverCover = coverSamplesOf(receiver);
     const CoverSamples* sourceCover = coverSamplesOf(source);
-    Sampler offsets(kCoverOffsetSeed);
-    offsets.startPixelSample(pixel, 0);
-    const Vec2 offset = offsets.get2D();
+    const Vec2 offset = receiverCover || sourceCover ? coverOffset(pixel) : Vec2(0.0f);
     const auto coverSample = [&](int node, const CoverSamples& cover, uint32_t k, bool receiving) {
         const std::vector<uint16_t>& exposed = cover.exposed[front(node) ? 0 : 1];
         if (receiving && !exposed.empty()) {
@@ -686,13 +689,13 @@ Color RadiositySolver::visibility(int receiver, int source, uint64_t& rays, bool
     // surface, unoccluded: for an element whose source straddles its plane (the inside of a box
     // standing on a floor that runs under it) that made the visible fraction of its hidden part
     // too large and that of its facing part too small. A pair that does not face is known so
-    // before its ray: it is skipped and another drawn (up to kClusterDraws per ray), so that the
+    // before its ray: it is skipped and another drawn (up to kDrawsPerRay per ray), so that the
     // rays go to the pairs that count. Only if none of the draws faces does the link take all
     // pairs; before, a straddling pair whose few facing pairs the draws missed took the pairs
     // behind the plane, often all hidden, and lost the link.
     bool facingOnly = true;
     const auto cast = [&](int until) {
-        for (; counted < until && k < kClusterDraws * until; ++k) {
+        for (; counted < until && k < kDrawsPerRay * until; ++k) {
             sampler.startPixelSample(pixel, static_cast<uint32_t>(k));
             const NodeSample xs = sample(receiver, receiverCover, true, static_cast<uint32_t>(k)),
                              ys = sample(source, sourceCover, false, static_cast<uint32_t>(k));
