@@ -1,6 +1,8 @@
 // Form factors between planar polygons: Lambert's contour integral and its area average.
 #include "radiosity/form_factor.h"
 
+#include "core/batch_math.h"
+
 #include <glm/gtc/constants.hpp>
 
 #include <array>
@@ -21,19 +23,55 @@ constexpr double kPiD = glm::pi<double>();
 // leaves sines of ~1e-16, so only points on the edge's line within rounding are affected.
 constexpr double kEdgeSine = 1e-12;
 
-// Lambert's term for one edge (a, b) of the contour, both relative to p: the angle gamma the edge
-// subtends at p times the cosine between n and the normal of the plane through p and the edge
-// (Baum, Rushmeier and Winget 1989, "Improving Radiosity Solutions Through the Use of
+// Lambert's terms of a contour's edges (a, b), both relative to p, summed: the angle gamma the
+// edge subtends at p times the cosine between n and the normal of the plane through p and the
+// edge (Baum, Rushmeier and Winget 1989, "Improving Radiosity Solutions Through the Use of
 // Analytically Determined Form-Factors", Section 2; Hottel and Sarofim 1967). gamma from atan2 of
-// |a x b| and a . b is accurate at every angle, including near 0 and pi.
-double edgeTerm(const DVec3& n, const DVec3& a, const DVec3& b) {
-    const DVec3 c = glm::cross(a, b);
-    const double sine = glm::length(c);
-    if (!(sine > kEdgeSine * glm::length(a) * glm::length(b)))
-        return 0.0;
-    const double gamma = std::atan2(sine, glm::dot(a, b));
-    return gamma * glm::dot(n, c) / sine;
-}
+// |a x b| and a . b is accurate at every angle, including near 0 and pi. The atan2s, a third of
+// the radiosity solve's time when taken one by one, are taken four edges at a time.
+class EdgeTermSum {
+  public:
+    explicit EdgeTermSum(const DVec3& n) : n_(n) {}
+
+    void add(const DVec3& a, const DVec3& b) {
+        const DVec3 c = glm::cross(a, b);
+        const double sineSquared = glm::dot(c, c);
+        if (!(sineSquared > kEdgeSine * kEdgeSine * glm::dot(a, a) * glm::dot(b, b)))
+            return;
+        const double sine = std::sqrt(sineSquared);
+        sine_[size_] = sine;
+        cosine_[size_] = glm::dot(a, b);
+        weight_[size_] = glm::dot(n_, c) / sine;
+        if (++size_ == kAtan2BatchSize)
+            flush();
+    }
+
+    double total() {
+        flush();
+        return sum_;
+    }
+
+  private:
+    void flush() {
+        if (size_ == 0)
+            return;
+        // Unused lanes: atan2(0, 1) = 0, weighed 0.
+        for (size_t i = size_; i < kAtan2BatchSize; ++i) {
+            sine_[i] = 0.0;
+            cosine_[i] = 1.0;
+            weight_[i] = 0.0;
+        }
+        const Atan2Batch gamma = atan2Batch(sine_, cosine_);
+        for (size_t i = 0; i < kAtan2BatchSize; ++i)
+            sum_ += gamma[i] * weight_[i];
+        size_ = 0;
+    }
+
+    DVec3 n_;
+    Atan2Batch sine_{}, cosine_{}, weight_{};
+    size_t size_ = 0;
+    double sum_ = 0.0;
+};
 
 // Heights within this angle (radians) of a plane, seen from the plane's reference point, count as
 // on the plane. It absorbs the rounding of vertex coordinates given in float (2^-24 ~ 6e-8), so
@@ -76,13 +114,13 @@ bool clipToHalfSpace(std::span<const DVec3> polygon, const DVec3& origin, const 
 double pointToPolygon(const DVec3& p, const DVec3& n, std::span<const DVec3> polygon) {
     if (polygon.size() < 3)
         return 0.0;
-    double sum = 0.0;
+    EdgeTermSum sum(n);
     DVec3 first(0.0), previous(0.0);
     bool started = false;
     const bool above = clipToHalfSpace(polygon, p, n, [&](const DVec3& x) {
         const DVec3 r = x - p;
         if (started)
-            sum += edgeTerm(n, previous, r);
+            sum.add(previous, r);
         else
             first = r;
         previous = r;
@@ -91,8 +129,8 @@ double pointToPolygon(const DVec3& p, const DVec3& n, std::span<const DVec3> pol
     // A polygon on or below the tangent plane subtends no projected solid angle.
     if (!above)
         return 0.0;
-    sum += edgeTerm(n, previous, first);
-    return std::abs(sum) / (2.0 * kPiD);
+    sum.add(previous, first);
+    return std::abs(sum.total()) / (2.0 * kPiD);
 }
 
 // Newell's normal: twice the area times the unit normal, robust for nearly degenerate polygons.
