@@ -69,6 +69,14 @@ std::optional<SurfaceHit> Scene::intersect(const Ray& ray) const {
     return hit;
 }
 
+Scene::Point Scene::pointAt(uint32_t meshIndex, uint32_t triangle, const Vec3& b) const {
+    const Mesh& mesh = desc_.meshes[meshIndex];
+    const glm::uvec3 index = mesh.triangles[triangle];
+    const Vec3 &p0 = mesh.positions[index.x], &p1 = mesh.positions[index.y],
+               &p2 = mesh.positions[index.z];
+    return {b.x * p0 + b.y * p1 + b.z * p2, barycentricPointError(b, p0, p1, p2)};
+}
+
 SurfaceHit Scene::surfaceAt(uint32_t meshIndex, uint32_t triangle, const Vec3& b) const {
     const Mesh& mesh = desc_.meshes[meshIndex];
     const glm::uvec3 index = mesh.triangles[triangle];
@@ -77,8 +85,9 @@ SurfaceHit Scene::surfaceAt(uint32_t meshIndex, uint32_t triangle, const Vec3& b
 
     SurfaceHit hit;
     hit.barycentric = b;
-    hit.p = b.x * p0 + b.y * p1 + b.z * p2;
-    hit.pError = barycentricPointError(b, p0, p1, p2);
+    const Point point = pointAt(meshIndex, triangle, b);
+    hit.p = point.p;
+    hit.pError = point.pError;
     hit.ng = glm::normalize(glm::cross(p1 - p0, p2 - p0));
     hit.ns = hit.ng;
     if (!mesh.normals.empty()) {

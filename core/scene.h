@@ -39,6 +39,12 @@ class Scene {
     // intersect() returns for a ray that hits it there; also for passes that place their own
     // points on surfaces (radiosity elements).
     SurfaceHit surfaceAt(uint32_t mesh, uint32_t triangle, const Vec3& b) const;
+    // Only the position and its error bound of surfaceAt(), for callers that need no more: a
+    // radiosity solve places millions of shadow-ray ends.
+    struct Point {
+        Vec3 p, pError;
+    };
+    Point pointAt(uint32_t mesh, uint32_t triangle, const Vec3& b) const;
 
     const Material& material(const SurfaceHit& hit) const { return desc_.materials[hit.material]; }
     // The BSDF at a hit, with the material's textures and normal map applied.

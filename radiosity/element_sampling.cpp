@@ -18,9 +18,9 @@ namespace penumbra {
 ElementSample sampleElement(const Scene& scene, const RadiosityMesh& mesh, int element, Vec2 u) {
     const Vec3 w = sampleUniformTriangle(u);
     const auto& corners = mesh.barycentrics(element);
-    const SurfaceHit hit = scene.surfaceAt(mesh.sceneMesh(element), mesh.sceneTriangle(element),
-                                           w.x * corners[0] + w.y * corners[1] + w.z * corners[2]);
-    return {hit.p, hit.pError, mesh.normal(element)};
+    const Scene::Point x = scene.pointAt(mesh.sceneMesh(element), mesh.sceneTriangle(element),
+                                         w.x * corners[0] + w.y * corners[1] + w.z * corners[2]);
+    return {x.p, x.pError, mesh.normal(element)};
 }
 
 void stratifiedElementSamples(const Scene& scene, const RadiosityMesh& mesh, int element,

@@ -27,7 +27,7 @@ struct ElementSample {
 };
 
 // The point with uniform-map coordinates u in [0, 1)^2 on the element (any element, leaf or
-// not), placed as a ray hit there would be (Scene::surfaceAt), with its error bound for robust
+// not), placed as a ray hit there would be (Scene::pointAt), with its error bound for robust
 // shadow rays. Uniform in area (Heitz's area-preserving map, sampleUniformTriangle).
 ElementSample sampleElement(const Scene& scene, const RadiosityMesh& mesh, int element, Vec2 u);
 
