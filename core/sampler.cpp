@@ -5,7 +5,7 @@
 namespace penumbra {
 namespace {
 
-uint32_t reverseBits(uint32_t v) {
+constexpr uint32_t reverseBits(uint32_t v) {
     v = ((v & 0x55555555u) << 1) | ((v >> 1) & 0x55555555u);
     v = ((v & 0x33333333u) << 2) | ((v >> 2) & 0x33333333u);
     v = ((v & 0x0f0f0f0fu) << 4) | ((v >> 4) & 0x0f0f0f0fu);
@@ -79,11 +79,23 @@ constexpr std::array<std::array<uint32_t, 256>, 4> kSobolDimension1ByByte = [] {
     return tables;
 }();
 
-uint32_t sobolDimension1(uint32_t index) {
-    return kSobolDimension1ByByte[0][index & 0xffu] ^
-           kSobolDimension1ByByte[1][(index >> 8) & 0xffu] ^
-           kSobolDimension1ByByte[2][(index >> 16) & 0xffu] ^
-           kSobolDimension1ByByte[3][index >> 24];
+// The same tables with every entry bit-reversed (reversal is linear over GF(2) too): the
+// scramble works on reversed values, so the point is looked up reversed.
+constexpr std::array<std::array<uint32_t, 256>, 4> kReversedSobolDimension1ByByte = [] {
+    std::array<std::array<uint32_t, 256>, 4> tables{};
+    for (size_t byte = 0; byte < 4; ++byte) {
+        for (size_t value = 0; value < 256; ++value)
+            tables[byte][value] = reverseBits(kSobolDimension1ByByte[byte][value]);
+    }
+    return tables;
+}();
+
+// reverseBits(point of Sobol's second dimension at index).
+uint32_t reversedSobolDimension1(uint32_t index) {
+    return kReversedSobolDimension1ByByte[0][index & 0xffu] ^
+           kReversedSobolDimension1ByByte[1][(index >> 8) & 0xffu] ^
+           kReversedSobolDimension1ByByte[2][(index >> 16) & 0xffu] ^
+           kReversedSobolDimension1ByByte[3][index >> 24];
 }
 
 float toUnitFloat(uint32_t bits) {
@@ -113,16 +125,19 @@ Vec2 Sampler::sample2D(uint32_t dimension) const {
     // scramble maps each aligned block of 2^k indices onto another aligned block, so the first 2^k
     // samples stay a (0,k,2)-net.
     const uint32_t index = nestedUniformScramble(sampleIndex_, seeds.index);
-    // Sobol dimension 0 is the van der Corput sequence: the bit-reversed index.
-    const uint32_t x = nestedUniformScramble(reverseBits(index), seeds.x);
-    const uint32_t y = nestedUniformScramble(sobolDimension1(index), seeds.y);
+    // Sobol dimension 0 is the van der Corput sequence: the bit-reversed index. The scramble
+    // reverses its input first, so both points are handed over reversed (the index itself, and
+    // dimension 1 from reversed tables): nestedUniformScramble(v) =
+    // reverseBits(LK(reverseBits(v))).
+    const uint32_t x = reverseBits(laineKarrasPermutation(index, seeds.x));
+    const uint32_t y = reverseBits(laineKarrasPermutation(reversedSobolDimension1(index), seeds.y));
     return {toUnitFloat(x), toUnitFloat(y)};
 }
 
 float Sampler::get1D() {
     const DimensionSeeds seeds = seedsFor(dimension_++);
     const uint32_t index = nestedUniformScramble(sampleIndex_, seeds.index);
-    return toUnitFloat(nestedUniformScramble(reverseBits(index), seeds.x));
+    return toUnitFloat(reverseBits(laineKarrasPermutation(index, seeds.x)));  // as in sample2D
 }
 
 Vec2 Sampler::get2D() {
