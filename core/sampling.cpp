@@ -41,14 +41,11 @@ Vec3 sampleUniformCone(Vec2 u, float cosMax) {
 }
 
 Vec3 sampleUniformTriangle(Vec2 u) {
-    float b0, b1;
-    if (u.x < u.y) {
-        b0 = u.x / 2.0f;
-        b1 = u.y - b0;
-    } else {
-        b1 = u.y / 2.0f;
-        b0 = u.x - b1;
-    }
+    // Heitz's two cases (u.x < u.y: b0 = u.x / 2, b1 = u.y - b0; else b1 = u.y / 2, b0 = u.x - b1)
+    // are both b = u - min(u.x, u.y) / 2, exactly (x - x/2 = x/2 in floating point for every u a
+    // sampler gives): no branch, which random u would mispredict half the time.
+    const float half = glm::min(u.x, u.y) / 2.0f;
+    const float b0 = u.x - half, b1 = u.y - half;
     return Vec3(b0, b1, 1.0f - b0 - b1);
 }
 
