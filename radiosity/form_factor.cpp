@@ -89,7 +89,7 @@ bool clipToHalfSpace(std::span<const DVec3> polygon, const DVec3& origin, const 
     const auto height = [&](const DVec3& x) {
         const DVec3 r = x - origin;
         const double h = glm::dot(n, r);
-        return std::abs(h) <= kPlaneAngle * glm::length(r) ? 0.0 : h;
+        return h * h <= kPlaneAngle * kPlaneAngle * glm::dot(r, r) ? 0.0 : h;
     };
     DVec3 a = polygon.back();
     double ha = height(a);
