@@ -102,7 +102,51 @@ float toUnitFloat(uint32_t bits) {
     return static_cast<float>(bits >> 8) * 0x1p-24f;
 }
 
+// The per-dimension seeds: one to shuffle the sample index, one per output coordinate. Hash
+// (pixel) and (seed, dimension) as two 64-bit words; mixBits is a bijection, so two pixels (or
+// two dimensions) of one render never share a hash.
+struct DimensionSeeds {
+    uint32_t index, x, y;
+};
+DimensionSeeds dimensionSeeds(uint32_t seed, IVec2 pixel, uint32_t dimension) {
+    const uint64_t pixelWord = (uint64_t(uint32_t(pixel.x)) << 32) | uint64_t(uint32_t(pixel.y));
+    const uint64_t streamWord = (uint64_t(seed) << 32) | dimension;
+    const uint64_t h = mixBits(pixelWord ^ mixBits(streamWord));
+    return {uint32_t(h), uint32_t(h >> 32), uint32_t(mixBits(h))};
+}
+
+// Shuffle the sample order by Owen-scrambling the index (Burley 2020, "shuffling"). The scramble
+// maps each aligned block of 2^k indices onto another aligned block, so the first 2^k samples
+// stay a (0,k,2)-net.
+uint32_t shuffledIndex(uint32_t sampleIndex, uint32_t indexSeed) {
+    return nestedUniformScramble(sampleIndex, indexSeed);
+}
+
+// Sobol dimension 0 is the van der Corput sequence: the bit-reversed index. The scramble reverses
+// its input first (nestedUniformScramble(v) = reverseBits(LK(reverseBits(v)))), so the point is
+// handed over reversed: the index itself.
+float scrambledDimension0(uint32_t index, uint32_t seed) {
+    return toUnitFloat(reverseBits(laineKarrasPermutation(index, seed)));
+}
+
+// Sobol dimension 1, likewise handed over reversed, from reversed tables.
+float scrambledDimension1(uint32_t index, uint32_t seed) {
+    return toUnitFloat(reverseBits(laineKarrasPermutation(reversedSobolDimension1(index), seed)));
+}
+
 }  // namespace
+
+SampleSequence2D::SampleSequence2D(uint32_t seed, IVec2 pixel, uint32_t dimension) {
+    const DimensionSeeds seeds = dimensionSeeds(seed, pixel, dimension);
+    indexSeed_ = seeds.index;
+    xSeed_ = seeds.x;
+    ySeed_ = seeds.y;
+}
+
+Vec2 SampleSequence2D::operator[](uint32_t sampleIndex) const {
+    const uint32_t index = shuffledIndex(sampleIndex, indexSeed_);
+    return {scrambledDimension0(index, xSeed_), scrambledDimension1(index, ySeed_)};
+}
 
 void Sampler::startPixelSample(IVec2 pixel, uint32_t sampleIndex) {
     pixel_ = pixel;
@@ -110,42 +154,17 @@ void Sampler::startPixelSample(IVec2 pixel, uint32_t sampleIndex) {
     dimension_ = 1;
 }
 
-Sampler::DimensionSeeds Sampler::seedsFor(uint32_t dimension) const {
-    // Hash (pixel) and (seed, dimension) as two 64-bit words; mixBits is a bijection, so two
-    // pixels (or two dimensions) of one render never share a hash.
-    const uint64_t pixelWord = (uint64_t(uint32_t(pixel_.x)) << 32) | uint64_t(uint32_t(pixel_.y));
-    const uint64_t streamWord = (uint64_t(seed_) << 32) | dimension;
-    const uint64_t h = mixBits(pixelWord ^ mixBits(streamWord));
-    return {uint32_t(h), uint32_t(h >> 32), uint32_t(mixBits(h))};
-}
-
-Vec2 Sampler::sample2D(uint32_t dimension) const {
-    const DimensionSeeds seeds = seedsFor(dimension);
-    // Shuffle the sample order by Owen-scrambling the index (Burley 2020, "shuffling"). The
-    // scramble maps each aligned block of 2^k indices onto another aligned block, so the first 2^k
-    // samples stay a (0,k,2)-net.
-    const uint32_t index = nestedUniformScramble(sampleIndex_, seeds.index);
-    // Sobol dimension 0 is the van der Corput sequence: the bit-reversed index. The scramble
-    // reverses its input first, so both points are handed over reversed (the index itself, and
-    // dimension 1 from reversed tables): nestedUniformScramble(v) =
-    // reverseBits(LK(reverseBits(v))).
-    const uint32_t x = reverseBits(laineKarrasPermutation(index, seeds.x));
-    const uint32_t y = reverseBits(laineKarrasPermutation(reversedSobolDimension1(index), seeds.y));
-    return {toUnitFloat(x), toUnitFloat(y)};
-}
-
 float Sampler::get1D() {
-    const DimensionSeeds seeds = seedsFor(dimension_++);
-    const uint32_t index = nestedUniformScramble(sampleIndex_, seeds.index);
-    return toUnitFloat(reverseBits(laineKarrasPermutation(index, seeds.x)));  // as in sample2D
+    const DimensionSeeds seeds = dimensionSeeds(seed_, pixel_, dimension_++);
+    return scrambledDimension0(shuffledIndex(sampleIndex_, seeds.index), seeds.x);
 }
 
 Vec2 Sampler::get2D() {
-    return sample2D(dimension_++);
+    return SampleSequence2D(seed_, pixel_, dimension_++)[sampleIndex_];
 }
 
 Vec2 Sampler::getPixel2D() {
-    return sample2D(0);
+    return SampleSequence2D(seed_, pixel_, 0)[sampleIndex_];
 }
 
 }  // namespace penumbra

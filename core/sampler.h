@@ -33,18 +33,25 @@ class Sampler {
     Vec2 getPixel2D();
 
   private:
-    // The per-dimension seeds: one to shuffle the sample index, one per output coordinate.
-    struct DimensionSeeds {
-        uint32_t index, x, y;
-    };
-    DimensionSeeds seedsFor(uint32_t dimension) const;
-    Vec2 sample2D(uint32_t dimension) const;
-
     uint32_t seed_;
     IVec2 pixel_{0, 0};
     uint32_t sampleIndex_ = 0;
     // Dimension 0 is reserved for getPixel2D.
     uint32_t dimension_ = 1;
+};
+
+// One 2D dimension of one pixel as a sequence over the sample index: element k is what the
+// Sampler of that seed gives for that dimension in sample k of the pixel, where get2D's (or
+// get1D's) n-th call after startPixelSample reads dimension n, counted from 1 (0 is getPixel2D's).
+// The dimension's seeds are hashed once, for callers that draw many samples of one dimension in
+// a loop (a radiosity link's shadow rays).
+class SampleSequence2D {
+  public:
+    SampleSequence2D(uint32_t seed, IVec2 pixel, uint32_t dimension);
+    Vec2 operator[](uint32_t sampleIndex) const;
+
+  private:
+    uint32_t indexSeed_, xSeed_, ySeed_;
 };
 
 }  // namespace penumbra

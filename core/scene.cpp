@@ -69,26 +69,23 @@ std::optional<SurfaceHit> Scene::intersect(const Ray& ray) const {
     return hit;
 }
 
-Scene::Point Scene::pointAt(uint32_t meshIndex, uint32_t triangle, const Vec3& b) const {
+Scene::Triangle Scene::triangle(uint32_t meshIndex, uint32_t triangle) const {
     const Mesh& mesh = desc_.meshes[meshIndex];
     const glm::uvec3 index = mesh.triangles[triangle];
-    const Vec3 &p0 = mesh.positions[index.x], &p1 = mesh.positions[index.y],
-               &p2 = mesh.positions[index.z];
-    return {b.x * p0 + b.y * p1 + b.z * p2, barycentricPointError(b, p0, p1, p2)};
+    return {mesh.positions[index.x], mesh.positions[index.y], mesh.positions[index.z]};
 }
 
 SurfaceHit Scene::surfaceAt(uint32_t meshIndex, uint32_t triangle, const Vec3& b) const {
     const Mesh& mesh = desc_.meshes[meshIndex];
     const glm::uvec3 index = mesh.triangles[triangle];
-    const Vec3 &p0 = mesh.positions[index.x], &p1 = mesh.positions[index.y],
-               &p2 = mesh.positions[index.z];
+    const Triangle vertices = this->triangle(meshIndex, triangle);
 
     SurfaceHit hit;
     hit.barycentric = b;
-    const Point point = pointAt(meshIndex, triangle, b);
+    const Triangle::Point point = vertices.at(b);
     hit.p = point.p;
     hit.pError = point.pError;
-    hit.ng = glm::normalize(glm::cross(p1 - p0, p2 - p0));
+    hit.ng = glm::normalize(glm::cross(vertices.p1 - vertices.p0, vertices.p2 - vertices.p0));
     hit.ns = hit.ng;
     if (!mesh.normals.empty()) {
         const Vec3 n =

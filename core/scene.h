@@ -8,6 +8,7 @@
 #include "core/interaction.h"
 #include "core/light.h"
 #include "core/light_sampler.h"
+#include "core/ray.h"
 #include "core/scene_description.h"
 
 #include <memory>
@@ -39,12 +40,18 @@ class Scene {
     // intersect() returns for a ray that hits it there; also for passes that place their own
     // points on surfaces (radiosity elements).
     SurfaceHit surfaceAt(uint32_t mesh, uint32_t triangle, const Vec3& b) const;
-    // Only the position and its error bound of surfaceAt(), for callers that need no more: a
-    // radiosity solve places millions of shadow-ray ends.
-    struct Point {
-        Vec3 p, pError;
+    // A triangle's vertices, for callers that place many points on it and need only their
+    // positions (a radiosity solve places millions of shadow-ray ends).
+    struct Triangle {
+        Vec3 p0, p1, p2;
+        struct Point {
+            Vec3 p, pError;  // as surfaceAt() gives them
+        };
+        Point at(const Vec3& b) const {
+            return {b.x * p0 + b.y * p1 + b.z * p2, barycentricPointError(b, p0, p1, p2)};
+        }
     };
-    Point pointAt(uint32_t mesh, uint32_t triangle, const Vec3& b) const;
+    Triangle triangle(uint32_t mesh, uint32_t triangle) const;
 
     const Material& material(const SurfaceHit& hit) const { return desc_.materials[hit.material]; }
     // The BSDF at a hit, with the material's textures and normal map applied.

@@ -15,25 +15,32 @@
 
 namespace penumbra {
 
+ElementSampler::ElementSampler(const Scene& scene, const RadiosityMesh& mesh, int element)
+    : triangle_(scene.triangle(mesh.sceneMesh(element), mesh.sceneTriangle(element))),
+      corners_(mesh.barycentrics(element)),
+      n_(mesh.normal(element)) {}
+
+ElementSample ElementSampler::at(const Vec3& w) const {
+    const Scene::Triangle::Point x =
+        triangle_.at(w.x * corners_[0] + w.y * corners_[1] + w.z * corners_[2]);
+    return {x.p, x.pError, n_};
+}
+
 ElementSample sampleElement(const Scene& scene, const RadiosityMesh& mesh, int element, Vec2 u) {
-    const Vec3 w = sampleUniformTriangle(u);
-    const auto& corners = mesh.barycentrics(element);
-    const Scene::Point x = scene.pointAt(mesh.sceneMesh(element), mesh.sceneTriangle(element),
-                                         w.x * corners[0] + w.y * corners[1] + w.z * corners[2]);
-    return {x.p, x.pError, mesh.normal(element)};
+    return ElementSampler(scene, mesh, element).at(sampleUniformTriangle(u));
 }
 
 void stratifiedElementSamples(const Scene& scene, const RadiosityMesh& mesh, int element,
                               uint32_t seed, IVec2 key, std::span<ElementSample> out,
                               std::span<uint8_t> children) {
     assert(children.empty() || children.size() == out.size());
-    Sampler sampler(seed);
+    const SampleSequence2D sequence(seed, key, 1);  // a Sampler's first get2D
+    const ElementSampler points(scene, mesh, element);
     for (size_t k = 0; k < out.size(); ++k) {
-        sampler.startPixelSample(key, static_cast<uint32_t>(k));
-        const Vec2 u = sampler.get2D();
-        out[k] = sampleElement(scene, mesh, element, u);
+        const Vec3 w = sampleUniformTriangle(sequence[static_cast<uint32_t>(k)]);
+        out[k] = points.at(w);
         if (!children.empty())
-            children[k] = static_cast<uint8_t>(RadiosityMesh::childAt(sampleUniformTriangle(u)));
+            children[k] = static_cast<uint8_t>(RadiosityMesh::childAt(w));
     }
 }
 
@@ -130,12 +137,8 @@ PunctualDirect punctualDirect(const Scene& scene, const RadiosityMesh& mesh, int
     PunctualDirect result;
     if (lights.empty())
         return result;
-    Sampler sampler(seed);
     std::vector<ElementSample> points(static_cast<size_t>(samples));
-    for (int k = 0; k < samples; ++k) {
-        sampler.startPixelSample(IVec2(element, 0), static_cast<uint32_t>(k));
-        points[k] = sampleElement(scene, mesh, element, sampler.get2D());
-    }
+    stratifiedElementSamples(scene, mesh, element, seed, IVec2(element, 0), points);
     std::vector<std::array<bool, 2>> hidden(points.size(), {false, false});
     if (coincident) {
         for (size_t k = 0; k < points.size(); ++k) {

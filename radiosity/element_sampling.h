@@ -8,6 +8,7 @@
 #pragma once
 
 #include "core/math.h"
+#include "core/scene.h"
 
 #include <array>
 #include <cstdint>
@@ -19,16 +20,29 @@ namespace penumbra {
 class CoincidentFaces;
 class Light;
 class RadiosityMesh;
-class Scene;
 
 // A point on an element, with what a shadow ray needs to leave it robustly.
 struct ElementSample {
     Vec3 p, pError, n;  // n: the element's front normal
 };
 
-// The point with uniform-map coordinates u in [0, 1)^2 on the element (any element, leaf or
-// not), placed as a ray hit there would be (Scene::pointAt), with its error bound for robust
-// shadow rays. Uniform in area (Heitz's area-preserving map, sampleUniformTriangle).
+// Points on one element (any element, leaf or not), placed as a ray hit there would be
+// (Scene::surfaceAt), with their error bounds for robust shadow rays. The element's triangle and
+// corners are looked up once: a link's shadow rays place up to 64 points on each of its ends.
+class ElementSampler {
+  public:
+    ElementSampler(const Scene& scene, const RadiosityMesh& mesh, int element);
+    // The point with barycentric weights w of the element's corners.
+    ElementSample at(const Vec3& w) const;
+
+  private:
+    Scene::Triangle triangle_;
+    std::array<Vec3, 3> corners_;  // in the scene triangle's barycentric coordinates
+    Vec3 n_;
+};
+
+// The point with uniform-map coordinates u in [0, 1)^2 on the element: ElementSampler's point at
+// sampleUniformTriangle(u) (Heitz's area-preserving map: uniform in area).
 ElementSample sampleElement(const Scene& scene, const RadiosityMesh& mesh, int element, Vec2 u);
 
 // Stratified points on an element, out.size() of them: point k is sampleElement() at point k of

@@ -612,10 +612,13 @@ class ChildTally {
 Color RadiositySolver::visibility(int receiver, int source, uint64_t& rays, bool adaptive,
                                   ChildVisibility* children) const {
     const int n = settings_.visibilitySamples;
-    Sampler sampler(kVisibilitySeed);
-    // Sample coordinates for the (IVec2) pixel of the sequence: cluster ids are negative.
+    // Sample coordinates for the (IVec2) pixel of the sequence: cluster ids are negative. Ray k
+    // takes sample k of the receiver's and the source's own dimensions (as a Sampler's first and
+    // second get2D).
     const IVec2 pixel(receiver < 0 ? 0x40000000 - receiver : receiver,
                       source < 0 ? 0x40000000 - source : source);
+    const SampleSequence2D receiverSequence(kVisibilitySeed, pixel, 1),
+        sourceSequence(kVisibilitySeed, pixel, 2);
     struct NodeSample {
         ElementSample x;
         int element;
@@ -649,13 +652,22 @@ Color RadiositySolver::visibility(int receiver, int source, uint64_t& rays, bool
         return NodeSample{cover.points[point], element(node), cover.child[point],
                           !receiving && !cover.isExposed(point, front(node))};
     };
+    const auto elementSampler = [&](int node) {
+        return isCluster(node)
+                   ? std::nullopt
+                   : std::optional<ElementSampler>(std::in_place, scene_, mesh_, element(node));
+    };
+    const std::optional<ElementSampler> receiverPoints = elementSampler(receiver),
+                                        sourcePoints = elementSampler(source);
     const auto sample = [&](int node, const CoverSamples* cover, bool receiving, uint32_t k) {
-        Vec2 u = sampler.get2D();
         if (cover)
             return coverSample(node, *cover, k, receiving);
-        if (!isCluster(node))
-            return NodeSample{sampleElement(scene_, mesh_, element(node), u), element(node),
-                              RadiosityMesh::childAt(sampleUniformTriangle(u))};
+        Vec2 u = (receiving ? receiverSequence : sourceSequence)[k];  // samplePatch reuses u.x
+        if (!isCluster(node)) {
+            const Vec3 w = sampleUniformTriangle(u);
+            return NodeSample{(receiving ? receiverPoints : sourcePoints)->at(w), element(node),
+                              RadiosityMesh::childAt(w)};
+        }
         const int patch = clusters_->samplePatch(cluster(node), u.x);
         return NodeSample{sampleElement(scene_, mesh_, patch, u), patch, -1};
     };
@@ -696,7 +708,6 @@ Color RadiositySolver::visibility(int receiver, int source, uint64_t& rays, bool
     bool facingOnly = true;
     const auto cast = [&](int until) {
         for (; counted < until && k < kDrawsPerRay * until; ++k) {
-            sampler.startPixelSample(pixel, static_cast<uint32_t>(k));
             const NodeSample xs = sample(receiver, receiverCover, true, static_cast<uint32_t>(k)),
                              ys = sample(source, sourceCover, false, static_cast<uint32_t>(k));
             const ElementSample &x = xs.x, &y = ys.x;
