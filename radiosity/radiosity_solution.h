@@ -4,6 +4,7 @@
 // figures for the log.
 #pragma once
 
+#include "core/bsdf.h"
 #include "core/math.h"
 #include "core/pass.h"
 
@@ -35,5 +36,18 @@ class RadiositySolution {
     // Counters and timings, in the order they should be printed.
     virtual PassStats stats() const = 0;
 };
+
+// The Lambertian layer's share, per channel, of the light a solution reflects at a point of this
+// BSDF: a solver reflects with the whole Bsdf::diffuseGlossyReflectance() (the rough glossy lobes
+// spread as Lambertian), of which the Lambertian layer's part is matteReflectance(). A tracer that
+// follows the glossy lobes itself takes only this share of radiance() or indirectRadiance().
+inline Color matteShare(const Bsdf& bsdf) {
+    const Color rho = bsdf.diffuseGlossyReflectance();
+    const Color matte = bsdf.matteReflectance();
+    Color share(0.0f);
+    for (int c = 0; c < 3; ++c)
+        share[c] = rho[c] > 0.0f ? matte[c] / rho[c] : 0.0f;
+    return share;
+}
 
 }  // namespace penumbra

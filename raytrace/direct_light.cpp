@@ -8,7 +8,7 @@
 namespace penumbra {
 
 Color sampleDirectLight(const Scene& scene, const SurfaceHit& hit, const Bsdf& bsdf, const Vec3& wo,
-                        Sampler& sampler, PathCounters& counters) {
+                        Sampler& sampler, PathCounters& counters, ReflectingLobes lobes) {
     const float uLight = sampler.get1D();
     const Vec2 uPoint = sampler.get2D();
     const auto choice = scene.lightSampler().sample(uLight);
@@ -20,7 +20,9 @@ Color sampleDirectLight(const Scene& scene, const SurfaceHit& hit, const Bsdf& b
     if (!ls || !(ls->pdf > 0.0f))
         return Color(0.0f);
 
-    const Color f = bsdf.f(wo, ls->wi) * std::abs(glm::dot(ls->wi, bsdf.shadingNormal()));
+    const Color f =
+        (lobes == ReflectingLobes::All ? bsdf.f(wo, ls->wi) : bsdf.fGlossy(wo, ls->wi)) *
+        std::abs(glm::dot(ls->wi, bsdf.shadingNormal()));
     if (maxComponent(f) <= 0.0f)
         return Color(0.0f);
     ++counters.rays;

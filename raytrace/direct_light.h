@@ -10,12 +10,19 @@ namespace penumbra {
 class Sampler;
 struct PathCounters;
 
+// Which lobes reflect: all, or the rough glossy ones alone (Bsdf::fGlossy), for a tracer that
+// takes the Lambertian layer's light from a radiosity solution.
+enum class ReflectingLobes { All, Glossy };
+
 // Reflected radiance towards wo from one light chosen by power and one point on it, with a
 // shadow ray (thin glass and alpha cut-outs transmit), weighted by the power heuristic against
 // bsdf.pdf() (Veach 1997, Eq. 9.13) for a tracer that also counts the emission its BSDF samples
-// reach; a delta light's weight is 1, as BSDF sampling cannot reach it.
+// reach; a delta light's weight is 1, as BSDF sampling cannot reach it. With the glossy lobes
+// alone the weight is still against the whole bsdf.pdf(), the density the tracer's BSDF samples
+// have whatever they are then weighed by.
 Color sampleDirectLight(const Scene& scene, const SurfaceHit& hit, const Bsdf& bsdf, const Vec3& wo,
-                        Sampler& sampler, PathCounters& counters);
+                        Sampler& sampler, PathCounters& counters,
+                        ReflectingLobes lobes = ReflectingLobes::All);
 
 // The power heuristic weight (Veach 1997, Eq. 9.13) of emission that a BSDF sample of density
 // bsdfPdf, leaving the point of ctx in direction wi, reached on lightHit, against the light

@@ -15,22 +15,6 @@ DistributionTracer::DistributionTracer(const Scene& scene, const DistributionSet
                                        const RadiositySolution* indirect)
     : scene_(scene), settings_(settings), indirect_(indirect) {}
 
-namespace {
-
-// The Lambertian layer's share of what the radiosity solution reflects at this point, per
-// channel: the solution reflects with the whole diffuseGlossyReflectance(), of which the
-// Lambertian layer's part is matteReflectance().
-Color matteShare(const Bsdf& bsdf) {
-    const Color rho = bsdf.diffuseGlossyReflectance();
-    const Color matte = bsdf.matteReflectance();
-    Color share(0.0f);
-    for (int c = 0; c < 3; ++c)
-        share[c] = rho[c] > 0.0f ? matte[c] / rho[c] : 0.0f;
-    return share;
-}
-
-}  // namespace
-
 Color DistributionTracer::glossyIndirect(const SurfaceHit& hit, const Bsdf& bsdf, const Vec3& wo,
                                          Sampler& sampler, PathCounters& counters) const {
     const float uLobe = sampler.get1D();

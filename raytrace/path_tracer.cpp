@@ -52,6 +52,12 @@ PathRadiance PathTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHit,
                             PathCounters& counters) const {
     PathRadiance L;
     Color beta(1.0f);
+    // The part of beta whose light no radiosity solution holds yet: all of it, but right after a
+    // reuse vertex left through a non-delta lobe, where the solution holds what that vertex's
+    // Lambertian layer gathers and only its glossy lobes' share goes on (see below). Emission,
+    // next-event estimation, the reuse terms and non-delta bounces take this part; a delta bounce
+    // carries all of beta, as the solution holds no light that arrives through specular surfaces.
+    Color betaUnheld(1.0f);
     // Product of eta^2 over refractions: beta carries the 1/eta^2 radiance scaling of each
     // refraction, which this factor undoes for the roulette decision only (pbrt-v4, 14.1.3).
     float etaScale = 1.0f;
@@ -65,19 +71,17 @@ PathRadiance PathTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHit,
     int diffuseVertices = 0;
     bool specularAfterDiffuse = false;
     bool firstVertexSpecular = false;  // the lobe the first vertex was left through was a delta
-    // The last vertex took the radiosity solution and was left through a non-delta lobe: the
-    // solution holds everything that arrives there from diffuse surfaces and lights, so the path
-    // only goes on through the delta lobes of the surface it meets (what the reuse vertex sees
-    // through specular surfaces, which the solution does not hold).
-    bool leftReuseVertex = false;
 
     while (true) {
         ++counters.rays;
         const std::optional<SurfaceHit> hit = scene_.intersect(ray);
         if (!hit)
             break;  // no infinite lights yet: the world is black
-        beta *= volumeAttenuation(scene_, *hit, ray.d);
+        const Color attenuation = volumeAttenuation(scene_, *hit, ray.d);
+        beta *= attenuation;
+        betaUnheld *= attenuation;
         const Vec3 wo = -ray.d;
+        const bool unheld = maxComponent(betaUnheld) > 0.0f;
 
         // Emission reached by the previous BSDF sample, MIS-weighted against next-event
         // estimation at the previous vertex (Veach 1997, Eq. 9.13).
@@ -87,11 +91,11 @@ PathRadiance PathTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHit,
         // vertices is the caustic map's, when the reuse vertex took it.
         const bool causticAtReuse = diffuseVertices >= 2 && specularAfterDiffuse &&
                                     settings_.causticsAtReuse && causticMap_;
-        if (maxComponent(Le) > 0.0f && !leftReuseVertex &&
-            !(causticPath && settings_.excludeCaustics) && !causticAtReuse) {
+        if (maxComponent(Le) > 0.0f && unheld && !(causticPath && settings_.excludeCaustics) &&
+            !causticAtReuse) {
             const float weight =
                 lastDelta ? 1.0f : emissionMisWeight(scene_, lastCtx, ray.d, *hit, lastBsdfPdf);
-            L[pathComponent(depth, firstVertexSpecular)] += beta * Le * weight;
+            L[pathComponent(depth, firstVertexSpecular)] += betaUnheld * Le * weight;
         }
 
         const Bsdf bsdf = scene_.bsdf(*hit);
@@ -99,6 +103,7 @@ PathRadiance PathTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHit,
         // Straight-through transparency: depth and the MIS state stay as they were.
         const StraightThrough straight = chooseStraightThrough(scene_, *hit, bsdf, wo, sampler);
         beta *= straight.weight;
+        betaUnheld *= straight.weight;
         if (straight.passes) {
             ray = Scene::spawnRay(*hit, ray.d);
             continue;
@@ -108,32 +113,51 @@ PathRadiance PathTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHit,
         if (settings_.maxDepth >= 0 && depth >= settings_.maxDepth)
             break;
 
-        // A second diffuse vertex under radiosity reuse: the solution's reflected light on the
-        // side wo sees stands for everything a diffuse bounce here would gather.
-        const bool reuseHere = settings_.reuseRadiosity && !leftReuseVertex &&
-                               diffuseVertices >= 1 && bsdf.hasNonDeltaLobe();
+        // A second diffuse vertex under radiosity reuse. The solution reflects what arrives here
+        // from the lights and diffuse surfaces with the whole non-delta reflectance, the rough
+        // glossy lobes spread as Lambertian: the Lambertian layer's share of it stands for
+        // everything that layer would gather (matteShare), and the glossy lobes go on as at any
+        // vertex, with next-event estimation and a bounce weighed by fGlossy alone. Every
+        // direction of a non-delta bounce here is drawn from the whole BSDF, so f / pdf splits
+        // exactly into the Lambertian part, which only delta lobes carry on (light through
+        // specular surfaces), and the glossy part, which goes on in full (betaUnheld).
+        const bool reuseHere =
+            settings_.reuseRadiosity && diffuseVertices >= 1 && bsdf.hasNonDeltaLobe();
         // Light reflected here reaches the eye over this vertex and the ones before it.
         const PathComponent reflectedHere = pathComponent(depth + 1, firstVertexSpecular);
-        if (reuseHere && radiosity_) {
-            L[reflectedHere] +=
-                beta * radiosity_->radiance(hit->mesh, hit->triangle, hit->barycentric, false,
-                                            glm::dot(wo, hit->ng) > 0.0f);
+        if (unheld && reuseHere && radiosity_) {
+            L[reflectedHere] += betaUnheld * matteShare(bsdf) *
+                                radiosity_->radiance(hit->mesh, hit->triangle, hit->barycentric,
+                                                     false, glm::dot(wo, hit->ng) > 0.0f);
         }
-        if (reuseHere && settings_.causticsAtReuse && causticMap_)
-            L[reflectedHere] += beta * causticMap_->radiance(*hit, bsdf, wo);
-        if (bsdf.hasNonDeltaLobe() && !reuseHere && !leftReuseVertex)
-            L[reflectedHere] += beta * sampleDirectLight(scene_, *hit, bsdf, wo, sampler, counters);
+        if (unheld && reuseHere && settings_.causticsAtReuse && causticMap_)
+            L[reflectedHere] += betaUnheld * causticMap_->radiance(*hit, bsdf, wo);
+        const bool glossyAtReuse = reuseHere && (bsdf.lobes() & kLobeGlossy) != 0;
+        if (unheld && bsdf.hasNonDeltaLobe() && (!reuseHere || glossyAtReuse)) {
+            L[reflectedHere] +=
+                betaUnheld *
+                sampleDirectLight(scene_, *hit, bsdf, wo, sampler, counters,
+                                  reuseHere ? ReflectingLobes::Glossy : ReflectingLobes::All);
+        }
 
         const float uLobe = sampler.get1D();
         const Vec2 uDirection = sampler.get2D();
         const std::optional<BsdfSample> bs = bsdf.sample(wo, uLobe, uDirection);
         if (!bs || !(bs->pdf > 0.0f))
             break;
-        if (leftReuseVertex && !bs->isDelta())
-            break;  // the solution at the reuse vertex holds this light
-        if (reuseHere && !bs->isDelta() && !settings_.specularAtReuse)
-            break;  // the radiosity term above holds this bounce, and no surface is specular
-        leftReuseVertex = reuseHere && !bs->isDelta();
+        const float cosOverPdf = std::abs(glm::dot(bs->wi, bsdf.shadingNormal())) / bs->pdf;
+        if (bs->isDelta()) {
+            beta *= bs->f * cosOverPdf;
+            betaUnheld = beta;
+        } else {
+            // Only the unheld part goes on through a non-delta lobe: the solution at the reuse
+            // vertex before this one holds the rest.
+            const Color base = betaUnheld;
+            beta = base * bs->f * cosOverPdf;
+            betaUnheld = reuseHere ? base * bsdf.fGlossy(wo, bs->wi) * cosOverPdf : beta;
+            if (reuseHere && !settings_.specularAtReuse && !(maxComponent(betaUnheld) > 0.0f))
+                break;  // the radiosity term above holds this bounce, and no surface is specular
+        }
         if (depth == 0)
             firstVertexSpecular = bs->isDelta();
         if (bs->isDelta()) {
@@ -142,7 +166,6 @@ PathRadiance PathTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHit,
             ++diffuseVertices;
             specularAfterDiffuse = false;
         }
-        beta *= bs->f * (std::abs(glm::dot(bs->wi, bsdf.shadingNormal())) / bs->pdf);
         if (maxComponent(beta) <= 0.0f)
             break;
         if (bs->lobe & kLobeTransmission)
@@ -159,6 +182,7 @@ PathRadiance PathTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHit,
             if (sampler.get1D() < q)
                 break;
             beta /= 1.0f - q;
+            betaUnheld /= 1.0f - q;
         }
     }
     return L;

@@ -9,12 +9,16 @@
 // - reuse of a radiosity solution: a path that reaches a second diffuse vertex (after the first
 //   one and any specular ones between) takes the solution's reflected radiance there (light paths
 //   L D+ ending there, emission excluded: that is counted by the emission step and MIS);
-//   next-event estimation happens at the first diffuse vertex only. The solution holds what
-//   arrives from diffuse surfaces and lights, not through specular ones (it treats a mirror as
-//   black, solid glass as opaque), so the path goes on: through the vertex's delta lobes as
-//   usual, and through its non-delta ones only as far as the next surface's delta lobes; behind
-//   that specular chain, the next diffuse vertex is a reuse vertex again, and a light found at
-//   the chain's end lights the reuse vertex through it (a caustic there, L S+ D). With a caustic
+//   next-event estimation at the first diffuse vertex takes all its lobes. The solution
+//   reflects with the whole non-delta reflectance, rough glossy lobes spread as Lambertian: the
+//   reuse vertex takes the Lambertian layer's share of it (matteShare), and its rough glossy
+//   lobes go on as at any vertex (next-event estimation and a bounce weighed by fGlossy alone),
+//   so that a glossy surface two bounces from the eye reflects in its own direction. The
+//   solution holds what arrives from diffuse surfaces and lights, not through specular ones (it
+//   treats a mirror as black, solid glass as opaque), so the Lambertian layer's part of a
+//   non-delta bounce goes on as far as the next surface's delta lobes; behind that specular
+//   chain, the next diffuse vertex is a reuse vertex again, and a light found at the chain's
+//   end lights the reuse vertex through it (a caustic there, L S+ D). With a caustic
 //   photon map as well, each reuse vertex takes the map's estimate of those caustics instead of
 //   the light found by chance: indirect caustics (L S+ D D+ ...), which the radiosity solution
 //   does not hold, are then counted one bounce deep.
