@@ -11,6 +11,7 @@
 #include "core/scene.h"
 
 #include <array>
+#include <cassert>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -96,6 +97,7 @@ struct CoverSamples {
 
     bool isExposed(size_t point, bool front) const { return sides[point] & (front ? 1 : 2); }
     float exposedFraction(bool front) const {
+        assert(!points.empty());  // 0 / 0 would make a plausible but wrong solve, silently
         return static_cast<float>(exposed[front ? 0 : 1].size()) /
                static_cast<float>(points.size());
     }
