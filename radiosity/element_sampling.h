@@ -11,9 +11,9 @@
 #include "core/scene.h"
 
 #include <array>
-#include <cassert>
 #include <cstdint>
 #include <span>
+#include <stdexcept>
 #include <vector>
 
 namespace penumbra {
@@ -97,7 +97,9 @@ struct CoverSamples {
 
     bool isExposed(size_t point, bool front) const { return sides[point] & (front ? 1 : 2); }
     float exposedFraction(bool front) const {
-        assert(!points.empty());  // 0 / 0 would make a plausible but wrong solve, silently
+        // 0 / 0 once made a plausible but wrong solve without a word.
+        if (points.empty())
+            throw std::logic_error("CoverSamples::exposedFraction: no points");
         return static_cast<float>(exposed[front ? 0 : 1].size()) /
                static_cast<float>(points.size());
     }
