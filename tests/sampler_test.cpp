@@ -24,6 +24,24 @@ std::vector<Vec2> firstSamples2D(uint32_t seed, IVec2 pixel, int dimension, int 
     return points;
 }
 
+TEST(Sampler, OneDimensionsSequenceIsWhatGet2DGives) {
+    const IVec2 pixel(5, 9);
+    for (uint32_t dimension = 1; dimension <= 4; ++dimension) {
+        const SampleSequence2D sequence(7, pixel, dimension);
+        const std::vector<Vec2> drawn = firstSamples2D(7, pixel, int(dimension) - 1, 64);
+        for (uint32_t k = 0; k < drawn.size(); ++k) {
+            ASSERT_EQ(sequence[k].x, drawn[k].x) << "dimension " << dimension << " sample " << k;
+            ASSERT_EQ(sequence[k].y, drawn[k].y) << "dimension " << dimension << " sample " << k;
+        }
+    }
+    // Dimension 0 is the camera sample's.
+    Sampler sampler(7);
+    sampler.startPixelSample(pixel, 3);
+    const Vec2 camera = sampler.getPixel2D();
+    EXPECT_EQ(SampleSequence2D(7, pixel, 0)[3].x, camera.x);
+    EXPECT_EQ(SampleSequence2D(7, pixel, 0)[3].y, camera.y);
+}
+
 TEST(Sampler, ValuesLieInTheHalfOpenUnitInterval) {
     Sampler sampler(3);
     for (int y = 0; y < 8; ++y) {

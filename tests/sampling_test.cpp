@@ -47,6 +47,28 @@ TEST(Warps, CosineHemisphereStaysOnTheUnitUpperHemisphere) {
     EXPECT_NEAR(meanCos / kSamples, 2.0 / 3.0, 3e-3);
 }
 
+TEST(Warps, UniformTriangleIsHeitzsMap) {
+    // Heitz 2019, Eq. 3, as written there: two cases split by the diagonal u.x = u.y. Every u a
+    // sampler gives is a multiple of 2^-24 (core/sampler.cpp, toUnitFloat).
+    for (int i = 0; i < 97; ++i) {
+        for (int j = 0; j < 97; ++j) {
+            const Vec2 u(float(i * 172933) * 0x1p-24f, float(j * 172933) * 0x1p-24f);
+            float b0, b1;
+            if (u.x < u.y) {
+                b0 = u.x / 2.0f;
+                b1 = u.y - b0;
+            } else {
+                b1 = u.y / 2.0f;
+                b0 = u.x - b1;
+            }
+            const Vec3 b = sampleUniformTriangle(u);
+            ASSERT_EQ(b.x, b0) << u.x << " " << u.y;
+            ASSERT_EQ(b.y, b1) << u.x << " " << u.y;
+            ASSERT_EQ(b.z, 1.0f - b0 - b1) << u.x << " " << u.y;
+        }
+    }
+}
+
 TEST(Warps, UniformTriangleBarycentricsHaveMeanOneThird) {
     std::mt19937 rng(11);
     std::uniform_real_distribution<float> uniform(0.0f, 1.0f);
