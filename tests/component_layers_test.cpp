@@ -6,7 +6,6 @@
 // - the direct light (L D E) is the same quantity whoever estimates it: the path tracer (MIS of
 //   light and BSDF samples), distribution ray tracing (light samples) and the radiosity solution
 //   (elements lit by the sources) agree on it.
-#include "core/camera.h"
 #include "core/gltf_loader.h"
 #include "core/image_io.h"
 #include "core/path_components.h"
@@ -41,11 +40,7 @@ class ComponentLayers : public testing::Test {
     }
 
     // Mesh index seen through each whole pixel (tests/region_means.h), for a scene file.
-    static std::vector<int> meshMask(const Scene& scene) {
-        const CameraDesc desc = chooseCamera(scene.description().cameras, "", scene.bounds());
-        const Camera camera(desc, kSize, kSize);
-        return regionMask(scene, camera, kSize, kSize);
-    }
+    static std::vector<int> meshMask(const Scene& scene) { return regionMask(scene, kSize, kSize); }
 
     static int meshIndex(const Scene& scene, const std::string& name) {
         for (size_t m = 0; m < scene.meshes().size(); ++m) {

@@ -1,5 +1,9 @@
 #include "tests/region_means.h"
 
+#include <gtest/gtest.h>
+
+#include <cstdio>
+
 namespace penumbra::test {
 
 std::vector<int> regionMask(const Scene& scene, const Camera& camera, int width, int height) {
@@ -20,6 +24,11 @@ std::vector<int> regionMask(const Scene& scene, const Camera& camera, int width,
     return mask;
 }
 
+std::vector<int> regionMask(const Scene& scene, int width, int height) {
+    const CameraDesc desc = chooseCamera(scene.description().cameras, "", scene.bounds());
+    return regionMask(scene, Camera(desc, width, height), width, height);
+}
+
 RegionMeans regionMeans(const Image& image, const std::vector<int>& mask) {
     RegionMeans means;
     for (int y = 0; y < image.height(); ++y) {
@@ -34,6 +43,26 @@ RegionMeans regionMeans(const Image& image, const std::vector<int>& mask) {
         }
     }
     return means;
+}
+
+int expectRegionMeansNear(const Scene& scene, const RegionMeans& test, const RegionMeans& reference,
+                          int minPixels, const std::string& label,
+                          const std::function<double(const std::string& mesh)>& tolerance) {
+    int regions = 0;
+    for (const auto& [mesh, pixels] : reference.pixels) {
+        if (pixels < minPixels)
+            continue;
+        ++regions;
+        const std::string& name = scene.meshes()[mesh].name;
+        for (int c = 0; c < 3; ++c) {
+            const double ratio = test.mean(mesh, c) / reference.mean(mesh, c);
+            std::printf("%-22s channel %d  pixels %5d  %s %9.4f  reference %9.4f  ratio %.4f\n",
+                        name.c_str(), c, pixels, label.c_str(), test.mean(mesh, c),
+                        reference.mean(mesh, c), ratio);
+            EXPECT_NEAR(ratio, 1.0, tolerance(name)) << name << " channel " << c;
+        }
+    }
+    return regions;
 }
 
 }  // namespace penumbra::test

@@ -7,7 +7,9 @@
 #include "core/scene.h"
 
 #include <array>
+#include <functional>
 #include <map>
+#include <string>
 #include <vector>
 
 namespace penumbra::test {
@@ -17,6 +19,9 @@ namespace penumbra::test {
 // and its four corners all see the same mesh, so that the pixel filter's average over the pixel
 // belongs to one surface in every image compared.
 std::vector<int> regionMask(const Scene& scene, const Camera& camera, int width, int height);
+// The same through the scene's default camera (its first, else one framing its bounds), as
+// `penumbra render` chooses it.
+std::vector<int> regionMask(const Scene& scene, int width, int height);
 
 struct RegionMeans {
     std::map<int, std::array<double, 3>> sums;  // by mesh: sum of R, G, B over its pixels
@@ -26,5 +31,12 @@ struct RegionMeans {
 };
 
 RegionMeans regionMeans(const Image& image, const std::vector<int>& mask);
+
+// Every region seen through at least minPixels whole pixels in the reference: prints the test's
+// and the reference's mean per channel (`label` names the test image) and expects their ratio
+// within tolerance(mesh name) of 1. Returns the number of such regions.
+int expectRegionMeansNear(const Scene& scene, const RegionMeans& test, const RegionMeans& reference,
+                          int minPixels, const std::string& label,
+                          const std::function<double(const std::string& mesh)>& tolerance);
 
 }  // namespace penumbra::test
