@@ -258,7 +258,8 @@ class Tracer {
             const bool front = hit->frontFace(ray.d);
             if (specularVertices > 0 && bsdf.hasNonDeltaLobe() &&
                 (front || scene_.material(*hit).doubleSided)) {
-                out.photons.push_back(Photon{hit->p, wo, beta, front ? hit->ng : -hit->ng});
+                out.photons.push_back(Photon{hit->p, wo, beta, front ? hit->ng : -hit->ng,
+                                             hit->mesh, hit->triangle, hit->barycentric});
             }
             if (specularVertices >= settings_.maxSpecularBounces)
                 return;

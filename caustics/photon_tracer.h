@@ -49,6 +49,11 @@ struct Photon {
     Vec3 wi;      // unit direction towards where the photon came from (away from the surface)
     Color power;  // flux, lm per channel
     Vec3 n;       // unit geometric normal on the side the photon arrived from
+    // Where it landed, for a radiosity solver that takes its flux onto its elements: the scene
+    // triangle and the barycentric weights of its vertices.
+    uint32_t mesh = 0;
+    uint32_t triangle = 0;
+    Vec3 barycentric{0.0f};
 };
 
 struct PhotonTracerSettings {

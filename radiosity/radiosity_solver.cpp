@@ -189,9 +189,12 @@ void validateRadiositySettings(const RadiositySettings& s) {
 }
 
 RadiositySolver::RadiositySolver(const Scene& scene, RadiosityMesh& mesh,
-                                 const RadiositySettings& settings)
+                                 const RadiositySettings& settings,
+                                 const std::vector<FluxDeposit>& deposits)
     : scene_(scene), mesh_(mesh), settings_(settings), sealed_(scene), coincident_(mesh) {
     validateRadiositySettings(settings_);
+    if (!deposits.empty())
+        deposits_ = std::make_unique<DepositedFlux>(mesh_, deposits);
     resizeArrays();
     if (mesh_.patchCount() > static_cast<size_t>(settings_.clusterMinPatches)) {
         clusters_ = std::make_unique<ClusterTree>(mesh_);
@@ -787,7 +790,7 @@ float RadiositySolver::exposedFormFactor(int receiver, int source, float F) cons
            (static_cast<float>(inFront) / static_cast<float>(cover->points.size()));
 }
 
-// --- Direct light of the punctual lights ---------------------------------------------------
+// --- Direct light of the punctual lights and deposited flux ------------------------------------
 
 // For each element: the irradiance of every delta light (point, spot, directional) at n
 // stratified points with one shadow ray each, divided by pi, on the side facing the light
@@ -795,24 +798,34 @@ float RadiositySolver::exposedFormFactor(int receiver, int source, float F) cons
 // the points) what refineDirect() weighs. rho D is the reflected
 // radiance of the Lambertian element: the punctual lights "shoot" into the elements before the
 // gather starts (as the sources of the first step of progressive radiosity, Cohen, Chen, Wallace
-// and Greenberg 1988).
+// and Greenberg 1988). The deposited flux (the caustic photons', deposited_flux.h) adds its mean
+// irradiance over the element, Phi / A, divided by pi, to D; it leaves the spread alone, so that
+// photon noise does not drive refineDirect().
 void RadiositySolver::computeDirect(const std::vector<int>& elements, bool report) {
     const std::vector<const Light*> lights = punctualLights(scene_);
-    if (lights.empty() || elements.empty())
+    if ((lights.empty() && !deposits_) || elements.empty())
         return;
+    if (deposits_)
+        deposits_->update();
     const int n = settings_.visibilitySamples;
     parallelForWithProgress(elements.size(), report ? progress_ : nullptr, [&](size_t i) {
         const int e = elements[i];
         const PunctualDirect direct =
-            punctualDirect(scene_, mesh_, e, lights, n, kDirectSeed, &coincident_);
+            lights.empty() ? PunctualDirect{}
+                           : punctualDirect(scene_, mesh_, e, lights, n, kDirectSeed, &coincident_);
         for (int side = 0; side < 2; ++side) {
             const int nd = node(e, side == 0);
-            // The mean over the exposed part: the covered points' shadow rays are blocked.
-            D_[nd] = exposure_[nd] > 0.0f ? direct.D[side] / exposure_[nd] : direct.D[side];
+            Color D = direct.D[side];
+            if (deposits_)
+                D += deposits_->flux(e, side == 0) / (kPi * mesh_.area(e));
+            // The mean over the exposed part: the covered points' shadow rays are blocked, and
+            // photons land on the exposed part only.
+            D_[nd] = exposure_[nd] > 0.0f ? D / exposure_[nd] : D;
             Dspread_[nd] = direct.spread[side];
         }
     });
-    rays_ += static_cast<uint64_t>(elements.size()) * n * lights.size();
+    if (!lights.empty())
+        rays_ += static_cast<uint64_t>(elements.size()) * n * lights.size();
 }
 
 // --- Refinement --------------------------------------------------------------------------------
@@ -2386,6 +2399,7 @@ PassStats RadiositySolver::stats() const {
             indirectFlux += kPi * area * luminance(elementIndirect(element, side));
         }
     }
+    const float depositedFlux = deposits_ ? luminance(deposits_->totalPower()) : 0.0f;
     return {{"patches", std::to_string(mesh.patches)},
             {"elements", std::to_string(mesh.elements)},
             {"leaves", std::to_string(mesh.leaves)},
@@ -2401,6 +2415,8 @@ PassStats RadiositySolver::stats() const {
             {"error_bound", formatStat(last.errorBound)},
             {"converged", converged_ ? "yes" : "no"},
             {"rays", std::to_string(rays_)},
+            {"deposited_photons", std::to_string(deposits_ ? deposits_->count() : 0)},
+            {"deposited_flux_lm", formatStat(depositedFlux)},
             {"direct_flux_lm", formatStat(directFlux)},
             {"indirect_flux_lm", formatStat(indirectFlux)},
             {"memory_mib", formatStat(static_cast<double>(memory) / (1024.0 * 1024.0))},

@@ -26,7 +26,11 @@
 // Wallace 1993, "Radiosity and Realistic Image Synthesis", chapter 2):
 //     L_i = Le_i + rho_i (D_i + sum_j F_ij V_ij L_j)
 // with F_ij the unoccluded form factor from i to j, V_ij in [0, 1] the visible fraction and D_i the
-// direct irradiance of the punctual lights divided by pi (cd/m²), averaged over the element.
+// direct irradiance of the punctual lights divided by pi (cd/m²), averaged over the element, plus
+// that of any deposited flux: with the caustic photons' (deposited_flux.h) the solution also holds
+// the paths L S+ D+ (light that reached the element through specular surfaces, and its further
+// diffuse bounces), and its "first reflection of the sources" (elementDirect) their first
+// reflection L S+ D too.
 //
 // Covered parts: where a surface touches another (the floor under a block standing on it, the
 // ceiling over a lamp that hangs just under it), part of an element side sees nothing and is seen
@@ -66,6 +70,7 @@
 #include "core/pass.h"
 #include "radiosity/cluster_tree.h"
 #include "radiosity/coincident_faces.h"
+#include "radiosity/deposited_flux.h"
 #include "radiosity/element_sampling.h"
 #include "radiosity/radiosity_mesh.h"
 #include "radiosity/radiosity_solution.h"
@@ -151,8 +156,11 @@ struct RadiosityIteration {
 
 class RadiositySolver : public RadiositySolution {
   public:
-    // The mesh is refined by solve(); both must outlive the solver.
-    RadiositySolver(const Scene& scene, RadiosityMesh& mesh, const RadiositySettings& settings);
+    // The mesh is refined by solve(); both must outlive the solver. `deposits`: flux that reached
+    // the surfaces by paths the solver does not follow (the caustic photons), reflected and
+    // carried on like the punctual lights' direct light (D_i below, deposited_flux.h).
+    RadiositySolver(const Scene& scene, RadiosityMesh& mesh, const RadiositySettings& settings,
+                    const std::vector<FluxDeposit>& deposits = {});
 
     // Direct light, initial linking, then gather sweeps alternating with refinement until nothing
     // is refined and the iteration has converged (or maxIterations); then the direct part
@@ -434,6 +442,7 @@ class RadiositySolver : public RadiositySolution {
     RadiositySettings settings_;
     SealedInteriors sealed_;
     CoincidentFaces coincident_;
+    std::unique_ptr<DepositedFlux> deposits_;  // null without deposits
 
     // Per node (2 * element + side).
     std::vector<Color> L_;  // radiance leaving, emission included
@@ -443,9 +452,10 @@ class RadiositySolver : public RadiositySolution {
     // children's visibility of the sources (Link::u); sums to zero over the children.
     std::vector<std::array<Color, 4>> Hchild_;
     std::vector<float> Lmin_, Lmax_;  // range of max(L) over the node's leaves
-    std::vector<Color> D_;            // punctual direct irradiance / pi, its exposed part's mean
-    std::vector<float> Dspread_;      // spread of max(D) over the element's sample points
-    std::vector<Color> direct_;       // the first reflection of the sources (elementDirect)
+    // Punctual direct and deposited irradiance / pi, its exposed part's mean.
+    std::vector<Color> D_;
+    std::vector<float> Dspread_;  // spread of max(D) over the element's sample points
+    std::vector<Color> direct_;   // the first reflection of the sources (elementDirect)
     // The fraction of the element side's area that is not covered (coverSamples,
     // element_sampling.h): a leaf's L, H and D are the means over that part, the only one that
     // sends or receives light; a parent's is the mean of its children's.
