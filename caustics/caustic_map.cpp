@@ -141,7 +141,8 @@ CausticMap CausticMap::build(const Scene& scene, const CausticSettings& settings
     return CausticMap(std::move(data));
 }
 
-Color CausticMap::radiance(const SurfaceHit& hit, const Bsdf& bsdf, const Vec3& wo) const {
+Color CausticMap::radiance(const SurfaceHit& hit, const Bsdf& bsdf, const Vec3& wo,
+                           ReflectingLobes lobes) const {
     const Data& d = *data_;
     if (d.tree->photons().empty() || !bsdf.hasNonDeltaLobe())
         return Color(0.0f);
@@ -162,7 +163,7 @@ Color CausticMap::radiance(const SurfaceHit& hit, const Bsdf& bsdf, const Vec3& 
     for (size_t i = 0; i < counted; ++i) {
         const Photon& p = d.tree->photons()[nearest[i].index];
         const float t = glm::min(std::sqrt(nearest[i].dist2) / r, 1.0f);
-        sum += bsdf.f(wo, p.wi) * p.power * kernelWeight(d.settings.kernel, t);
+        sum += bsdf.f(wo, p.wi, lobes) * p.power * kernelWeight(d.settings.kernel, t);
     }
     return sum / (kernelIntegral(d.settings.kernel) * kPi * r2);
 }

@@ -76,8 +76,10 @@ class CausticMap {
 
     // Radiance (cd/m² per channel) the surface at `hit` reflects towards wo from the caustic
     // photons, with `bsdf` the BSDF at the hit (Scene::bsdf) and wo the unit direction towards
-    // the viewer. Only the non-delta lobes take part (Bsdf::f). Thread-safe.
-    Color radiance(const SurfaceHit& hit, const Bsdf& bsdf, const Vec3& wo) const;
+    // the viewer. Only the non-delta lobes take part (Bsdf::f), or the rough glossy ones alone
+    // (for a tracer whose radiosity solution holds the Lambertian layer's share). Thread-safe.
+    Color radiance(const SurfaceHit& hit, const Bsdf& bsdf, const Vec3& wo,
+                   ReflectingLobes lobes = ReflectingLobes::All) const;
 
     // The stored photons, in the kd-tree's storage.
     std::span<const Photon> photons() const;

@@ -41,6 +41,10 @@ struct BsdfSample {
     bool isDelta() const { return (lobe & kLobeSpecular) != 0; }
 };
 
+// Which lobes reflect: all, or the rough glossy ones alone (Bsdf::fGlossy), for a tracer that
+// takes the Lambertian layer's light from a radiosity solution.
+enum class ReflectingLobes { All, Glossy };
+
 class Bsdf {
   public:
     // shading: frame of the shading normal (after normal mapping); ng: unit geometric normal on
@@ -53,6 +57,10 @@ class Bsdf {
     // radiosity ambient term). Zero where every non-Lambertian lobe is a delta.
     Color fGlossy(const Vec3& wo, const Vec3& wi,
                   TransportMode mode = TransportMode::Radiance) const;
+    // f() or fGlossy(), as `lobes` says.
+    Color f(const Vec3& wo, const Vec3& wi, ReflectingLobes lobes) const {
+        return lobes == ReflectingLobes::All ? f(wo, wi) : fGlossy(wo, wi);
+    }
     float pdf(const Vec3& wo, const Vec3& wi) const;
     // Samples wi given wo. uLobe picks the lobe, u the direction within it. Returns nothing when
     // the sample carries no energy (below the horizon, total internal reflection of a lobe with

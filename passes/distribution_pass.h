@@ -28,7 +28,11 @@ class DistributionPass : public SamplingPass {
     // The user's ambient constant stands for no light path: the plan names L D D+ as missing. The
     // radiosity solution's mean stands, crudely, for the indirect light it averages.
     std::string lightPaths() const override {
-        return ambient_ == Ambient::Constant ? "L S* E | L D S* E" : distributionLightPaths();
+        return ambient_ == Ambient::Constant ? "L S* E | L D S* E"
+                                             : distributionLightPaths(causticsInRadiosity_);
+    }
+    void adapt(const PipelineShape& shape) override {
+        causticsInRadiosity_ = shape.madeBefore.count("caustics in radiosity") > 0;
     }
     std::set<std::string> needs() const override {
         if (ambient_ == Ambient::Constant)
@@ -46,6 +50,7 @@ class DistributionPass : public SamplingPass {
   private:
     DistributionSettings settings_;
     Ambient ambient_;
+    bool causticsInRadiosity_ = false;  // the solution holds the caustic photons (L S+ D+)
     std::shared_ptr<const RadiositySolution> radiosity_;
     std::unique_ptr<DistributionTracer> tracer_;
 };

@@ -1,5 +1,6 @@
 #include "passes/radiosity_pass.h"
 
+#include "caustics/caustic_map.h"
 #include "core/material.h"
 #include "core/stats.h"
 #include "radiosity/meshed_hit.h"
@@ -8,7 +9,8 @@
 
 namespace penumbra {
 
-RadiosityPass::RadiosityPass(RadiositySettings settings) : settings_(std::move(settings)) {
+RadiosityPass::RadiosityPass(RadiositySettings settings, Caustics caustics)
+    : settings_(std::move(settings)), caustics_(caustics) {
     validateRadiositySettings(std::get<RadiositySettings>(settings_));
 }
 
@@ -17,6 +19,34 @@ RadiosityPass::RadiosityPass(ProgressiveSettings settings) : settings_(settings)
 }
 
 RadiosityPass::~RadiosityPass() = default;
+
+std::set<std::string> RadiosityPass::products() const {
+    if (takesCaustics_)
+        return {"radiosity", "caustics in radiosity"};
+    return {"radiosity"};
+}
+
+void RadiosityPass::adapt(const PipelineShape& shape) {
+    view_ = !shape.neededLater.count("radiosity");
+    takesCaustics_ = caustics_ == Caustics::Auto && shape.madeBefore.count("caustic map") &&
+                     std::holds_alternative<RadiositySettings>(settings_);
+}
+
+namespace {
+
+// The caustic photons as flux deposited where they landed.
+std::vector<FluxDeposit> causticDeposits(const CausticMap* map) {
+    std::vector<FluxDeposit> deposits;
+    if (!map)
+        return deposits;  // the planner skipped the caustic pass: no specular surface
+    deposits.reserve(map->photons().size());
+    for (const Photon& photon : map->photons())
+        deposits.push_back(
+            {photon.mesh, photon.triangle, photon.barycentric, photon.n, photon.power});
+    return deposits;
+}
+
+}  // namespace
 
 void RadiosityPass::prepare(PassContext& context) {
     scene_ = &context.scene;
@@ -29,7 +59,11 @@ void RadiosityPass::prepare(PassContext& context) {
     };
     if (const auto* hierarchical = std::get_if<RadiositySettings>(&settings_)) {
         mesh(hierarchical->meshing(context.scene));
-        auto solver = std::make_unique<RadiositySolver>(context.scene, *mesh_, *hierarchical);
+        const std::vector<FluxDeposit> deposits =
+            takesCaustics_ ? causticDeposits(context.product<CausticMap>("caustic map").get())
+                           : std::vector<FluxDeposit>{};
+        auto solver =
+            std::make_unique<RadiositySolver>(context.scene, *mesh_, *hierarchical, deposits);
         solver->solve(&progress);
         solution_ = std::move(solver);
     } else {
@@ -116,6 +150,9 @@ PassStats RadiosityPass::parameters() const {
         const MeshingSettings meshing =
             scene_ ? h->meshing(*scene_) : MeshingSettings{h->patchEdgeLength, h->minElementArea};
         stats = {{"solver", h->solver},
+                 {"caustics", caustics_ == Caustics::Exclude ? "exclude"
+                              : takesCaustics_ ? "auto (takes the caustic map's photons)"
+                                               : "auto (no caustic map before)"},
                  {"epsilon", formatStat(h->epsilon)},
                  {"patch_edge_length", size(meshing.patchEdgeLength)},
                  {"min_element_area", size(meshing.minElementArea)},

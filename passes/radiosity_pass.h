@@ -9,6 +9,13 @@
 // directly and the reflected light of every bounce, rough glossy reflection spread as
 // Lambertian: radiosity_solver.h) and
 // the requested AOVs; otherwise it forms no image.
+//
+// Caustics: when a caustic pass made a photon map before it, the hierarchical solver takes the
+// photons' flux as deposited light (radiosity/deposited_flux.h), so that the solution also holds
+// L S+ D+ (indirect caustics: light through the glass onto the floor, then to the walls), unless
+// the pass is told to leave them out (Caustics::Exclude, the script's caustics = "exclude"). It
+// then also makes the product "caustics in radiosity", by which the passes reusing the solution
+// know what it holds. The progressive solver takes no photons.
 #pragma once
 
 #include "core/pass.h"
@@ -27,16 +34,20 @@ namespace penumbra {
 class RadiosityPass : public Pass {
   public:
     // The settings are validated here (UsageError naming the key).
-    explicit RadiosityPass(RadiositySettings settings);
+    // Whether the solution takes the photons of a caustic map made before the pass: Auto takes
+    // them when there is one (hierarchical solver only).
+    enum class Caustics { Auto, Exclude };
+
+    explicit RadiosityPass(RadiositySettings settings, Caustics caustics = Caustics::Auto);
     explicit RadiosityPass(ProgressiveSettings settings);
     ~RadiosityPass() override;
 
     std::string type() const override { return "radiosity"; }
-    std::string lightPaths() const override { return view_ ? "LD*E" : ""; }
-    std::set<std::string> products() const override { return {"radiosity"}; }
-    void adapt(const PipelineShape& shape) override {
-        view_ = !shape.neededLater.count("radiosity");
+    std::string lightPaths() const override {
+        return !view_ ? "" : takesCaustics_ ? "L D* E | L S+ D+ E" : "LD*E";
     }
+    std::set<std::string> products() const override;
+    void adapt(const PipelineShape& shape) override;
     PassStats parameters() const override;
     // Meshes the scene and solves (the long part); the image is formed by run().
     void prepare(PassContext& context) override;
@@ -53,7 +64,9 @@ class RadiosityPass : public Pass {
 
   private:
     std::variant<RadiositySettings, ProgressiveSettings> settings_;
-    bool view_ = true;  // forms the image (no later pass reuses the solution)
+    Caustics caustics_ = Caustics::Exclude;
+    bool view_ = true;            // forms the image (no later pass reuses the solution)
+    bool takesCaustics_ = false;  // the solution takes a caustic map made before the pass
     const Scene* scene_ = nullptr;
     std::shared_ptr<RadiosityMesh> mesh_;
     std::shared_ptr<RadiositySolution> solution_;

@@ -56,15 +56,15 @@ const std::vector<std::pair<std::string, PresetFactory>>& presets() {
              passes.push_back(std::make_unique<DistributionPass>(DistributionSettings{}));
              return passes;
          }},
-        // The seed's three-pass method: radiosity, the caustic photon map, then path tracing
-        // that takes the solution and the map at the second diffuse vertex
-        // (docs/light-paths.md); the planner skips the caustic pass for a scene without
-        // specular surfaces.
+        // The seed's three-pass method: the caustic photon map, radiosity that takes the
+        // photons' flux as well, then path tracing that takes the solution at the second
+        // diffuse vertex (docs/light-paths.md); the planner skips the caustic pass for a scene
+        // without specular surfaces.
         {"hybrid",
          [](const RenderSettings& settings) {
              std::vector<std::unique_ptr<Pass>> passes;
-             passes.push_back(std::make_unique<RadiosityPass>(RadiositySettings{}));
              passes.push_back(std::make_unique<CausticPass>(CausticSettings{}));
+             passes.push_back(std::make_unique<RadiosityPass>(RadiositySettings{}));
              PathTracerSettings path{settings.maxDepth};
              path.reuseRadiosity = true;
              passes.push_back(std::make_unique<PathPass>(path));
@@ -121,12 +121,17 @@ std::unique_ptr<Pass> hierarchicalRadiosityPass(const ScriptTable& p) {
         throw p.error("iteration",
                       "unknown iteration '" + iteration + "'; valid: gauss-seidel, jacobi");
     }
+    // Whether the solution takes the photons of a caustic pass before it.
+    const std::string caustics = p.get<std::string>("caustics", "auto");
+    if (caustics != "auto" && caustics != "exclude")
+        throw p.error("caustics", "unknown value '" + caustics + "'; valid: auto, exclude");
     try {
         validateRadiositySettings(s);
     } catch (const UsageError& e) {
         throw atKey(p, "radiosity.", e);
     }
-    return std::make_unique<RadiosityPass>(s);
+    return std::make_unique<RadiosityPass>(
+        s, caustics == "auto" ? RadiosityPass::Caustics::Auto : RadiosityPass::Caustics::Exclude);
 }
 
 std::unique_ptr<Pass> progressiveRadiosityPass(const ScriptTable& p) {

@@ -20,9 +20,7 @@ Color sampleDirectLight(const Scene& scene, const SurfaceHit& hit, const Bsdf& b
     if (!ls || !(ls->pdf > 0.0f))
         return Color(0.0f);
 
-    const Color f =
-        (lobes == ReflectingLobes::All ? bsdf.f(wo, ls->wi) : bsdf.fGlossy(wo, ls->wi)) *
-        std::abs(glm::dot(ls->wi, bsdf.shadingNormal()));
+    const Color f = bsdf.f(wo, ls->wi, lobes) * std::abs(glm::dot(ls->wi, bsdf.shadingNormal()));
     if (maxComponent(f) <= 0.0f)
         return Color(0.0f);
     ++counters.rays;

@@ -10,10 +10,6 @@ namespace penumbra {
 class Sampler;
 struct PathCounters;
 
-// Which lobes reflect: all, or the rough glossy ones alone (Bsdf::fGlossy), for a tracer that
-// takes the Lambertian layer's light from a radiosity solution.
-enum class ReflectingLobes { All, Glossy };
-
 // Reflected radiance towards wo from one light chosen by power and one point on it, with a
 // shadow ray (thin glass and alpha cut-outs transmit), weighted by the power heuristic against
 // bsdf.pdf() (Veach 1997, Eq. 9.13) for a tracer that also counts the emission its BSDF samples

@@ -7,8 +7,9 @@
 
 namespace penumbra {
 
-std::string distributionLightPaths() {
-    return "L S* E | L D S* E | L D D+ S* E";
+std::string distributionLightPaths(bool causticsInRadiosity) {
+    return causticsInRadiosity ? "L S* E | L D S* E | L S* D D+ S* E"
+                               : "L S* E | L D S* E | L D D+ S* E";
 }
 
 DistributionTracer::DistributionTracer(const Scene& scene, const DistributionSettings& settings,

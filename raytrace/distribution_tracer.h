@@ -39,7 +39,10 @@ struct DistributionSettings {
     Color ambient{0.0f};
 };
 
-std::string distributionLightPaths();
+// The light paths distribution ray tracing counts with a radiosity solution's indirect part as
+// its ambient term; with a solution that took the caustic photons (L S+ D+), the ambient term
+// holds their further bounces too.
+std::string distributionLightPaths(bool causticsInRadiosity = false);
 
 class DistributionTracer {
   public:

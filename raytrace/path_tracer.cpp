@@ -36,12 +36,14 @@ std::string pathTracerLightPaths(const PathTracerSettings& settings) {
     // vertex, seen through specular chains, the light arriving there: the radiosity solution's
     // L D+, the light of specular chains from the lights (L S+ D: the caustic map's, or found by
     // tracing), and the same again at the diffuse vertex behind each specular chain the reuse
-    // vertex sees ((S+ D)*). With no specular surface in the scene the last two are empty.
+    // vertex sees ((S+ D)*). With no specular surface in the scene the last two are empty. A
+    // solution that took the caustic photons holds L S+ D+ as well: L S* D+ arrives.
     if (!settings.reuseRadiosity)
         return settings.excludeCaustics ? "L S* E | L D S* E | L (D|S)* D S* D S* E" : "L(D|S)*E";
+    const bool causticsInSolution = settings.causticsAtReuse && settings.causticsInRadiosity;
     return std::string(settings.excludeCaustics ? "L S* E | L D S* E | "
                                                 : "L S* E | L S* D S* E | ") +
-           "(L D+ | L S+ D) (S+ D)* S* D S* E";
+           (causticsInSolution ? "L S* D+" : "(L D+ | L S+ D)") + " (S+ D)* S* D S* E";
 }
 
 PathTracer::PathTracer(const Scene& scene, const PathTracerSettings& settings,
@@ -130,8 +132,12 @@ PathRadiance PathTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHit,
                                 radiosity_->radiance(hit->mesh, hit->triangle, hit->barycentric,
                                                      false, glm::dot(wo, hit->ng) > 0.0f);
         }
-        if (unheld && reuseHere && settings_.causticsAtReuse && causticMap_)
-            L[reflectedHere] += betaUnheld * causticMap_->radiance(*hit, bsdf, wo);
+        if (unheld && reuseHere && settings_.causticsAtReuse && causticMap_) {
+            L[reflectedHere] += betaUnheld * causticMap_->radiance(*hit, bsdf, wo,
+                                                                   settings_.causticsInRadiosity
+                                                                       ? ReflectingLobes::Glossy
+                                                                       : ReflectingLobes::All);
+        }
         const bool glossyAtReuse = reuseHere && (bsdf.lobes() & kLobeGlossy) != 0;
         if (unheld && bsdf.hasNonDeltaLobe() && (!reuseHere || glossyAtReuse)) {
             L[reflectedHere] +=

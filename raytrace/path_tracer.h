@@ -20,8 +20,10 @@
 //   chain, the next diffuse vertex is a reuse vertex again, and a light found at the chain's
 //   end lights the reuse vertex through it (a caustic there, L S+ D). With a caustic
 //   photon map as well, each reuse vertex takes the map's estimate of those caustics instead of
-//   the light found by chance: indirect caustics (L S+ D D+ ...), which the radiosity solution
-//   does not hold, are then counted one bounce deep.
+//   the light found by chance: indirect caustics (L S+ D D+ ...) are then counted one bounce
+//   deep. When the solution itself took the map's photons (causticsInRadiosity: it holds
+//   L S+ D+ too), its Lambertian share holds those caustics and their further bounces, and the
+//   map adds only what the reuse vertex's rough glossy lobes reflect of them.
 // - caustic exclusion: emission reached from the first diffuse vertex through one or more
 //   specular vertices (L S+ D S* E, the caustic pass's share) is dropped.
 // A vertex is diffuse or specular by the lobe it is left through (a plastic's diffuse base and
@@ -51,6 +53,9 @@ struct PathTracerSettings {
     bool reuseRadiosity = false;   // take a radiosity solution at the second diffuse vertex
     bool excludeCaustics = false;  // drop L S+ D S* E
     bool causticsAtReuse = false;  // with reuseRadiosity: add a caustic map at the second vertex
+    // With causticsAtReuse: the solution holds the map's photons (L S+ D+), so the map adds only
+    // its glossy lobes' share at the second vertex.
+    bool causticsInRadiosity = false;
     // With reuseRadiosity: trace on from a reuse vertex to the specular surfaces it sees. Off
     // only for a scene with no delta lobe, where that ray would find none.
     bool specularAtReuse = true;

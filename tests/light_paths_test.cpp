@@ -85,6 +85,12 @@ TEST(LightPaths, HybridPartitionLeavesOnlyIndirectCaustics) {
     EXPECT_TRUE((path & caustics).empty());
     const PathSet missing = all - (path | caustics);
     EXPECT_EQ(missing.shortestPaths(2), (std::vector<std::string>{"L S D D D E", "L D S D D D E"}));
+    // With the caustic photons in the solution (the preset's order: caustics, radiosity, path),
+    // the second diffuse vertex also receives L S+ D+.
+    const PathSet fed = PathSet::parse("L S* E | L D S* E | L S* D+ (S+ D)* S* D S* E");
+    EXPECT_TRUE((fed & caustics).empty());
+    EXPECT_EQ((all - (fed | caustics)).shortestPaths(2),
+              (std::vector<std::string>{"L D S D D D E", "L D D S D D D E"}));
 }
 
 TEST(LightPaths, MalformedExpressionsNameThePosition) {

@@ -140,7 +140,7 @@ TEST_F(PassScriptTest, UnknownPassKeyAtTheKeyWithTheValidOnes) {
               "5:3: pass[0].epsiln: unknown key; valid keys here: type, solver, epsilon, "
               "patch_edge_length, min_element_area, convergence, visibility_samples, "
               "max_iterations, max_refinements, cluster_min_patches, subdivision_threshold, "
-              "final_gather, iteration");
+              "final_gather, iteration, caustics");
     // The offending line, then a caret under its column.
     EXPECT_NE(message.find("\n      epsiln = 0.1\n      ^"), std::string::npos) << message;
 }

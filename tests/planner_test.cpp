@@ -4,6 +4,7 @@
 // the paths nobody counts, and the composite is the exact sum of the contributions.
 #include "passes/planner.h"
 #include "core/light_paths.h"
+#include "passes/caustic_pass.h"
 #include "passes/composite.h"
 #include "passes/distribution_pass.h"
 #include "passes/path_pass.h"
@@ -55,6 +56,18 @@ TEST(Planner, PathTracerDeclarationsAreTheSetsTheyStandFor) {
     withMap.causticsAtReuse = true;
     EXPECT_TRUE(sameSet(PathSet::parse(pathTracerLightPaths(withMap)), reuse - kCaustics));
     EXPECT_TRUE((PathSet::parse(pathTracerLightPaths(withMap)) & kCaustics).empty());
+    // A solution that took the caustic photons holds L S+ D+ as well: what is lost is light that
+    // passed a specular vertex after a diffuse one (the photons start at the lights) and then
+    // went between two diffuse surfaces before the reuse vertex.
+    PathTracerSettings withPhotons = withMap;
+    withPhotons.causticsInRadiosity = true;
+    const PathSet lostWithPhotons = PathSet::parse(
+        "L (D|S)* D (D|S)* S (D|S)* D D S* D S* E | "
+        "L (D|S)* D (D|S)* S (D|S)* D D (D|S)* D S* D S* E");
+    EXPECT_TRUE(sameSet(PathSet::parse(pathTracerLightPaths(withPhotons)),
+                        kAll - kCaustics - lostWithPhotons));
+    EXPECT_TRUE((lostToRadiosity - lostWithPhotons).shortestPaths(1) ==
+                std::vector<std::string>{"L S D D D E"});
 }
 
 // A stand-in for a pass the registry does not have yet, with a declared set of paths.
@@ -96,6 +109,43 @@ TEST(Planner, HybridLeavesCausticsToTheCausticPassAndNamesIndirectCaustics) {
         << plan.warnings[0];
     for (size_t i = 0; i < 3; ++i)
         EXPECT_FALSE(pipeline.skipped(i));
+}
+
+// The preset: the caustic map first, so that the solution takes its photons (L S+ D+) and the
+// path pass counts indirect caustics through it; a radiosity view after a caustic pass would
+// count the caustics seen directly a second time, and the same with the photons left out is fine.
+TEST(Planner, HybridPresetFeedsTheCausticPhotonsToTheSolution) {
+    Pipeline hybrid = makePipelinePreset("hybrid", RenderSettings{});
+    const auto& passes = hybrid.passes();
+    ASSERT_EQ(passes.size(), 3u);
+    EXPECT_EQ(passes[0]->type(), "caustics");
+    EXPECT_EQ(passes[1]->type(), "radiosity");
+    EXPECT_TRUE(passes[1]->products().count("caustics in radiosity"));
+    PathTracerSettings expected = tracer(true, true);
+    expected.causticsAtReuse = true;
+    expected.causticsInRadiosity = true;
+    EXPECT_EQ(passes[2]->lightPaths(), pathTracerLightPaths(expected));
+    const PipelinePlan plan = planForScene(hybrid, SceneContents{true, true, 1, 0});
+    ASSERT_EQ(plan.warnings.size(), 1u);
+    EXPECT_NE(plan.warnings[0].find("L D S D D D E, L D D S D D D E"), std::string::npos)
+        << plan.warnings[0];
+
+    const auto causticsThenView = [](RadiosityPass::Caustics caustics) {
+        std::vector<std::unique_ptr<Pass>> passes;
+        passes.push_back(std::make_unique<CausticPass>(CausticSettings{}));
+        passes.push_back(std::make_unique<RadiosityPass>(RadiositySettings{}, caustics));
+        return Pipeline("view", std::move(passes));
+    };
+    Pipeline withPhotons = causticsThenView(RadiosityPass::Caustics::Auto);
+    const auto problem = checkPipeline(withPhotons);
+    ASSERT_TRUE(problem.has_value());
+    EXPECT_NE(problem->message.find("both count the light paths L S D E"), std::string::npos)
+        << problem->message;
+    EXPECT_EQ(withPhotons.passes()[1]->lightPaths(), "L D* E | L S+ D+ E");
+    Pipeline without = causticsThenView(RadiosityPass::Caustics::Exclude);
+    EXPECT_FALSE(checkPipeline(without).has_value());
+    EXPECT_EQ(without.passes()[1]->lightPaths(), "LD*E");
+    EXPECT_TRUE(without.passes()[1]->products() == std::set<std::string>{"radiosity"});
 }
 
 TEST(Planner, RefusesCausticsCountedTwice) {
