@@ -5,8 +5,8 @@
 //
 // Contribution: image layer "caustics", light paths L S+ D S* E (the caustics seen directly or in
 // mirrors); products "caustics" (those paths are counted: a path pass with `caustics = "auto"`
-// leaves them out) and "caustic map" (the map, which a later path pass reuses at its second
-// diffuse vertex).
+// leaves them out) and "caustic map" (the map, which a later radiosity pass takes into its
+// solution and a later path pass reuses at its second diffuse vertex).
 #pragma once
 
 #include "caustics/caustic_map.h"

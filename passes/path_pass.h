@@ -1,7 +1,9 @@
 // The path-tracing pass: forms the image with the path tracer (raytrace/path_tracer.h). Alone it
 // is the `reference` pipeline, the ground truth of every other pipeline; in the `hybrid` pipeline
 // it reuses the radiosity solution at the second diffuse vertex and leaves caustic paths to the
-// caustic pass; when that pass comes first, its map also lights the second diffuse vertex.
+// caustic pass; when that pass comes first, its map also lights the second diffuse vertex, through
+// the solution when the radiosity pass took the photons ("caustics in radiosity"; then the map
+// adds only the glossy lobes' share there).
 //
 // Contribution: image layer "path" (the light paths of pathTracerLightPaths()), and the
 // requested AOVs.

@@ -27,8 +27,10 @@ class RadiositySolution {
     // Two-Pass Solution to the Rendering Equation", SIGGRAPH '87; Sillion and Puech 1989): the part
     // of radiance(mesh, triangle, b, false, front) that light paths L D D+ E ending there carry,
     // i.e. the reflected radiance less the first reflection of the sources' light (of the
-    // emissive surfaces and of the punctual lights), which a ray tracer adds back itself with
-    // shadow rays: the ambient term of distribution ray tracing (the seed's two-pass method).
+    // emissive surfaces and of the punctual lights, and of deposited caustic photons when the
+    // solver took them: L S+ D), which a ray tracer adds back itself with shadow rays (or a
+    // caustic pass with its photon map): the ambient term of distribution ray tracing (the
+    // seed's two-pass method).
     // Radiance in cd/m², Gouraud-interpolated like radiance(), never negative; zero on a triangle
     // the solver's mesh does not hold.
     virtual Color indirectRadiance(uint32_t mesh, uint32_t triangle, Vec3 b,
