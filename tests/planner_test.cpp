@@ -148,6 +148,25 @@ TEST(Planner, HybridPresetFeedsTheCausticPhotonsToTheSolution) {
     EXPECT_TRUE(without.passes()[1]->products() == std::set<std::string>{"radiosity"});
 }
 
+// Distribution ray tracing after a solution that took the caustic photons: its ambient term (the
+// solution's indirect part) holds the caustics' further bounces, so L S D D E is counted, and the
+// caustics pass's own paths are not counted twice.
+TEST(Planner, DistributionTakesIndirectCausticsFromASolutionWithPhotons) {
+    std::vector<std::unique_ptr<Pass>> passes;
+    passes.push_back(std::make_unique<CausticPass>(CausticSettings{}));
+    passes.push_back(std::make_unique<RadiosityPass>(RadiositySettings{}));
+    passes.push_back(std::make_unique<DistributionPass>(DistributionSettings{}));
+    Pipeline pipeline("caustics-distribution", std::move(passes));
+    ASSERT_FALSE(checkPipeline(pipeline).has_value());
+    EXPECT_EQ(pipeline.passes()[2]->lightPaths(), distributionLightPaths(true));
+    const PathSet counted = PathSet::parse(pipeline.passes()[0]->lightPaths()) |
+                            PathSet::parse(pipeline.passes()[2]->lightPaths());
+    EXPECT_TRUE((PathSet::parse("L S D D E | L S S D D D E") - counted).empty());
+    EXPECT_FALSE((PathSet::parse("L D S D E") - counted).empty());
+    const PathSet withoutPhotons = PathSet::parse(distributionLightPaths(false));
+    EXPECT_TRUE((withoutPhotons - PathSet::parse(distributionLightPaths(true))).empty());
+}
+
 TEST(Planner, RefusesCausticsCountedTwice) {
     Pipeline pipeline = hybridWithCaustics(PathPass::Caustics::Include);
     const auto problem = checkPipeline(pipeline);
