@@ -33,11 +33,11 @@ namespace penumbra {
 
 class RadiosityPass : public Pass {
   public:
-    // The settings are validated here (UsageError naming the key).
     // Whether the solution takes the photons of a caustic map made before the pass: Auto takes
     // them when there is one (hierarchical solver only).
     enum class Caustics { Auto, Exclude };
 
+    // The settings are validated here (UsageError naming the key).
     explicit RadiosityPass(RadiositySettings settings, Caustics caustics = Caustics::Auto);
     explicit RadiosityPass(ProgressiveSettings settings);
     ~RadiosityPass() override;
