@@ -151,8 +151,9 @@ PassStats RadiosityPass::parameters() const {
             scene_ ? h->meshing(*scene_) : MeshingSettings{h->patchEdgeLength, h->minElementArea};
         stats = {{"solver", h->solver},
                  {"caustics", caustics_ == Caustics::Exclude ? "exclude"
-                              : takesCaustics_ ? "auto (takes the caustic map's photons)"
-                                               : "auto (no caustic map before)"},
+                              : takesCaustics_
+                                  ? "auto (the photons of the caustic pass before, if it runs)"
+                                  : "auto (no caustic map before)"},
                  {"epsilon", formatStat(h->epsilon)},
                  {"patch_edge_length", size(meshing.patchEdgeLength)},
                  {"min_element_area", size(meshing.minElementArea)},
