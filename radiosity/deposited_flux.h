@@ -46,26 +46,24 @@ class DepositedFlux {
 
     size_t count() const { return deposits_.size(); }
     size_t dropped() const { return dropped_; }
-    Color totalPower() const { return total_; }
+    // The flux of the deposits kept (both sides of every patch).
+    Color totalPower() const;
 
   private:
     struct Located {
+        FluxDeposit deposit;
         int leaf = -1;
-        bool front = true;
-        uint32_t mesh = 0, triangle = 0;
-        Vec3 barycentric{0.0f};
-        Color power{0.0f};
+        bool front = true;  // the side it adds to
     };
     size_t slot(int element, bool front) const {
         return 2 * static_cast<size_t>(element) + (front ? 0 : 1);
     }
-    void add(int element, const Located& deposit);
+    void add(int element, const Located& located);
 
     const RadiosityMesh& mesh_;
     std::vector<Located> deposits_;
     std::vector<Color> flux_;  // per element side, 2 * element + (front ? 0 : 1)
     size_t dropped_ = 0;
-    Color total_{0.0f};
 };
 
 }  // namespace penumbra

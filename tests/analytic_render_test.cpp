@@ -28,12 +28,6 @@ Image render(const GltfBuilder& scene, const TempDir& dir, const std::string& op
     return readImage(dir.file("out.exr"));
 }
 
-double luminanceMean(const Image& image) {
-    const int w = image.width(), h = image.height();
-    return 0.2126 * regionMean(image, 0, 0, 0, w, h) + 0.7152 * regionMean(image, 1, 0, 0, w, h) +
-           0.0722 * regionMean(image, 2, 0, 0, w, h);
-}
-
 TEST(AnalyticRender, PointLightOverLambertianFloor) {
     // L = rho I / (pi h^2) directly below a point light of I candela at height h.
     constexpr float kRho = 0.5f, kIntensity = 100.0f, kHeight = 2.0f;

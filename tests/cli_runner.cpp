@@ -44,4 +44,10 @@ double regionMean(const Image& image, int channel, int x0, int y0, int x1, int y
     return sum / (static_cast<double>(x1 - x0) * (y1 - y0));
 }
 
+double luminanceMean(const Image& image) {
+    const int w = image.width(), h = image.height();
+    return 0.2126 * regionMean(image, 0, 0, 0, w, h) + 0.7152 * regionMean(image, 1, 0, 0, w, h) +
+           0.0722 * regionMean(image, 2, 0, 0, w, h);
+}
+
 }  // namespace penumbra::test

@@ -32,5 +32,7 @@ class TempDir {
 
 // Mean of one channel over a rectangle of pixels [x0, x1) x [y0, y1).
 double regionMean(const Image& image, int channel, int x0, int y0, int x1, int y1);
+// Mean luminance (Rec. 709 weights, as core/math.h's luminance()) of the whole image.
+double luminanceMean(const Image& image);
 
 }  // namespace penumbra::test

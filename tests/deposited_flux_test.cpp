@@ -2,6 +2,7 @@
 // down as leaves split, and the hierarchical solver reflects and carries the deposited light on
 // with the closed form of a closed box.
 #include "radiosity/deposited_flux.h"
+#include "core/sampling.h"
 #include "core/scene.h"
 #include "radiosity/radiosity_mesh.h"
 #include "radiosity/radiosity_solver.h"
@@ -30,13 +31,9 @@ std::vector<FluxDeposit> randomDeposits(const Scene& scene, int perTriangle, int
             const Scene::Triangle tri = scene.triangle(m, t);
             const Vec3 front = glm::normalize(glm::cross(tri.p1 - tri.p0, tri.p2 - tri.p0));
             for (int i = 0; i < perTriangle; ++i) {
-                float u = uniform(random), v = uniform(random);
-                if (u + v > 1.0f) {
-                    u = 1.0f - u;
-                    v = 1.0f - v;
-                }
+                const Vec3 b = sampleUniformTriangle(Vec2(uniform(random), uniform(random)));
                 const bool back = backEvery > 0 && ++count % backEvery == 0;
-                deposits.push_back({m, t, Vec3(1.0f - u - v, u, v), back ? -front : front,
+                deposits.push_back({m, t, b, back ? -front : front,
                                     Color(0.5f + uniform(random), 0.5f + uniform(random),
                                           0.5f + uniform(random))});
             }

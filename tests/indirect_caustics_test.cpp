@@ -35,12 +35,6 @@ void buildMirrorRoom(GltfBuilder& scene) {
     scene.setPerspectiveCamera({0.0f, -0.2f, 0.99f}, {0.0f, 0.0f, 0.0f, 1.0f}, 1.4f);
 }
 
-double luminanceMean(const Image& image) {
-    const int w = image.width(), h = image.height();
-    return 0.2126 * regionMean(image, 0, 0, 0, w, h) + 0.7152 * regionMean(image, 1, 0, 0, w, h) +
-           0.0722 * regionMean(image, 2, 0, 0, w, h);
-}
-
 class IndirectCaustics : public testing::Test {
   protected:
     void SetUp() override {

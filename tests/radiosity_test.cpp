@@ -929,12 +929,6 @@ Image render(const TempDir& dir, const std::string& name, const std::string& opt
     return readImage(out);
 }
 
-double luminanceMean(const Image& image) {
-    const int w = image.width(), h = image.height();
-    return 0.2126 * regionMean(image, 0, 0, 0, w, h) + 0.7152 * regionMean(image, 1, 0, 0, w, h) +
-           0.0722 * regionMean(image, 2, 0, 0, w, h);
-}
-
 TEST(RadiosityPipeline, FloorAgreesWithReferencePathTracer) {
     // A closed Lambertian room lit by a square ceiling light; an orthographic camera below the
     // light looks straight down and sees only the floor. Radiosity and the path tracer solve the
