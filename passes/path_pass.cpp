@@ -21,7 +21,8 @@ void PathPass::adapt(const PipelineShape& shape) {
     // A caustic map made before this pass also lights the second diffuse vertex.
     settings_.causticsAtReuse = settings_.reuseRadiosity && shape.madeBefore.count("caustic map");
     // ... unless the solution took the map's photons, which then lights it through the solution.
-    settings_.causticsInRadiosity = shape.madeBefore.count("caustics in radiosity") > 0;
+    settings_.causticsInRadiosity =
+        settings_.causticsAtReuse && shape.madeBefore.count("caustics in radiosity");
 }
 
 PassStats PathPass::parameters() const {

@@ -40,10 +40,9 @@ std::string pathTracerLightPaths(const PathTracerSettings& settings) {
     // solution that took the caustic photons holds L S+ D+ as well: L S* D+ arrives.
     if (!settings.reuseRadiosity)
         return settings.excludeCaustics ? "L S* E | L D S* E | L (D|S)* D S* D S* E" : "L(D|S)*E";
-    const bool causticsInSolution = settings.causticsAtReuse && settings.causticsInRadiosity;
     return std::string(settings.excludeCaustics ? "L S* E | L D S* E | "
                                                 : "L S* E | L S* D S* E | ") +
-           (causticsInSolution ? "L S* D+" : "(L D+ | L S+ D)") + " (S+ D)* S* D S* E";
+           (settings.causticsInRadiosity ? "L S* D+" : "(L D+ | L S+ D)") + " (S+ D)* S* D S* E";
 }
 
 PathTracer::PathTracer(const Scene& scene, const PathTracerSettings& settings,
