@@ -23,7 +23,7 @@
 #include "caustics/photon_tracer.h"
 #include "core/bsdf.h"
 #include "core/interaction.h"
-#include "core/pass.h"
+#include "core/stats.h"
 
 #include <memory>
 #include <optional>

@@ -21,7 +21,7 @@
 
 #include "caustics/photon_tracer.h"
 #include "core/interaction.h"
-#include "core/pass.h"
+#include "core/stats.h"
 
 #include <cstdint>
 #include <span>

@@ -16,6 +16,7 @@
 #include "core/image.h"
 #include "core/render_settings.h"
 #include "core/scene.h"
+#include "core/stats.h"
 
 #include <any>
 #include <map>
@@ -26,9 +27,6 @@
 #include <vector>
 
 namespace penumbra {
-
-// Named figures a pass reports (counters, timings), in the order they were added.
-using PassStats = std::vector<std::pair<std::string, std::string>>;
 
 class PassContext {
   public:

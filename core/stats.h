@@ -1,14 +1,19 @@
-// Small helpers for the figures passes and commands report (PassStats, core/pass.h): elapsed
-// time, peak memory, and numbers formatted for the log and the EXR metadata.
+// The figures a component reports (a solver, a photon map, a pass) and small helpers for them:
+// elapsed time, peak memory, and numbers formatted for the log and the EXR metadata.
 #pragma once
 
 #include <chrono>
 #include <sstream>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include <sys/resource.h>
 
 namespace penumbra {
+
+// Named figures (counters, timings, resolved parameters), in the order they were added.
+using PassStats = std::vector<std::pair<std::string, std::string>>;
 
 inline double secondsSince(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -33,7 +33,7 @@
 #pragma once
 
 #include "core/math.h"
-#include "core/pass.h"
+#include "core/stats.h"
 #include "radiosity/coincident_faces.h"
 #include "radiosity/element_sampling.h"
 #include "radiosity/radiosity_mesh.h"

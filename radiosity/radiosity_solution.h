@@ -6,7 +6,7 @@
 
 #include "core/bsdf.h"
 #include "core/math.h"
-#include "core/pass.h"
+#include "core/stats.h"
 
 #include <cstdint>
 

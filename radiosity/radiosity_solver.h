@@ -67,7 +67,7 @@
 #pragma once
 
 #include "core/math.h"
-#include "core/pass.h"
+#include "core/stats.h"
 #include "radiosity/cluster_tree.h"
 #include "radiosity/coincident_faces.h"
 #include "radiosity/deposited_flux.h"
