@@ -373,7 +373,7 @@ bool drawPlot(const fs::path& directory) {
 struct BenchSetup {
     const Scene* scene = nullptr;
     const Camera* camera = nullptr;
-    SceneContents contents;   // what decides the passes a pipeline skips (passes/planner.h)
+    SceneContents contents;   // what decides the passes a pipeline skips (core/scene_contents.h)
     RenderSettings settings;  // size, threads, camera, depth, filter; quiet
 };
 
@@ -391,8 +391,8 @@ Rendered renderOnce(const BenchSetup& setup, const std::string& pipelineName, co
     settings.timeLimit = budget.spp ? 0.0 : budget.value;
     Rendered rendered{makePipelinePreset(pipelineName, settings), {}};
     planForScene(rendered.pipeline, setup.contents);
-    rendered.run = runPipeline(rendered.pipeline, *setup.scene, *setup.camera, settings,
-                               [] { return interrupted.load(); });
+    rendered.run = runPipeline(rendered.pipeline, *setup.scene, setup.contents, *setup.camera,
+                               settings, [] { return interrupted.load(); });
     return rendered;
 }
 

@@ -10,14 +10,15 @@
 
 namespace penumbra::cli {
 
-PipelineRun runPipeline(Pipeline& pipeline, const Scene& scene, const Camera& camera,
-                        const RenderSettings& settings, const std::function<bool()>& stop) {
+PipelineRun runPipeline(Pipeline& pipeline, const Scene& scene, const SceneContents& contents,
+                        const Camera& camera, const RenderSettings& settings,
+                        const std::function<bool()>& stop) {
     const int threads = settings.threads > 0 ? settings.threads : tbb::info::default_concurrency();
     tbb::global_control parallelism(tbb::global_control::max_allowed_parallelism, threads);
-    // The passes read the settings through the context at every step (core/pass.h); lowering this
+    // The passes read the settings through the context at every step (passes/pass.h); lowering this
     // copy's spp target to one sample is how a pass is told to finish at its next step.
     RenderSettings live = settings;
-    PassContext context(scene, camera, live);
+    PassContext context(scene, contents, camera, live);
     PipelineRun result;
     const auto start = std::chrono::steady_clock::now();
     const auto abandon = [&] {

@@ -7,6 +7,7 @@
 #include "core/image_io.h"
 #include "core/render_settings.h"
 #include "core/scene.h"
+#include "core/scene_contents.h"
 #include "passes/pipeline.h"
 
 #include <functional>
@@ -23,7 +24,8 @@ struct PipelineRun {
     bool stopped = false;                    // `stop` ended the run before its image was formed
 };
 
-// Prepares and runs every pass of `pipeline` in order, over `scene` seen by `camera` with
+// Prepares and runs every pass of `pipeline` in order, over `scene` (whose analysis is
+// `contents`, the one the pipeline was planned with) seen by `camera` with
 // `settings` (width and height resolved), on settings.threads worker threads (0: all cores).
 //
 // settings.timeLimit (seconds, 0 = none) holds the pipeline as a whole, from the first prepare:
@@ -32,8 +34,9 @@ struct PipelineRun {
 // overruns by one sample pass at most; a pass's prepare, such as the radiosity solve, cannot be
 // cut short). `stop`, when given, is asked after every step; if it answers true the run is
 // abandoned: stopped = true and no layers.
-PipelineRun runPipeline(Pipeline& pipeline, const Scene& scene, const Camera& camera,
-                        const RenderSettings& settings, const std::function<bool()>& stop = {});
+PipelineRun runPipeline(Pipeline& pipeline, const Scene& scene, const SceneContents& contents,
+                        const Camera& camera, const RenderSettings& settings,
+                        const std::function<bool()>& stop = {});
 
 // The metadata every rendered image carries: penumbra version, pipeline, seed, `seconds`, scene
 // file, camera name, filter, then each pass's stats as "penumbra:<pass type>.<key>" and

@@ -115,7 +115,8 @@ void render(RenderOptions& options) {
     settings.height = size.y;
     const Camera camera(cameraDesc, size.x, size.y);
 
-    const PipelinePlan plan = planForScene(pipeline, analyseScene(*scene));
+    const SceneContents contents = analyseScene(*scene);
+    const PipelinePlan plan = planForScene(pipeline, contents);
     for (const std::string& warning : plan.warnings)
         std::cerr << "penumbra: warning: " << warning << "\n";
     if (!settings.quiet) {
@@ -123,7 +124,7 @@ void render(RenderOptions& options) {
             std::cerr << "penumbra: plan: " << decision << "\n";
     }
 
-    PipelineRun run = runPipeline(pipeline, *scene, camera, settings);
+    PipelineRun run = runPipeline(pipeline, *scene, contents, camera, settings);
     const double seconds = secondsSince(start);
 
     ImageMetadata metadata =

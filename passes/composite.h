@@ -6,7 +6,7 @@
 // explicitly (it must be the last).
 #pragma once
 
-#include "core/pass.h"
+#include "passes/pass.h"
 
 namespace penumbra {
 

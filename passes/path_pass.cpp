@@ -1,7 +1,6 @@
 #include "passes/path_pass.h"
 
 #include "caustics/caustic_map.h"
-#include "passes/planner.h"
 #include "radiosity/radiosity_solution.h"
 
 namespace penumbra {
@@ -39,7 +38,7 @@ RadianceEstimator PathPass::makeEstimator(PassContext& context) {
     PathTracerSettings settings = settings_;
     // The ray from a reuse vertex to the specular surfaces it sees would find none (the
     // planner's analysis, which also skips the caustic pass then).
-    settings.specularAtReuse = analyseScene(context.scene).specular;
+    settings.specularAtReuse = context.contents.specular;
     tracer_ =
         std::make_unique<PathTracer>(context.scene, settings, radiosity_.get(), causticMap_.get());
     return [tracer = tracer_.get()](const Ray& ray, Sampler& sampler, FirstHit* firstHit,

@@ -2,7 +2,7 @@
 // listed in passes/registry.cpp.
 #pragma once
 
-#include "core/pass.h"
+#include "passes/pass.h"
 #include "passes/pass_script.h"
 
 #include <functional>

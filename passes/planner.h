@@ -6,7 +6,7 @@
 // docs/light-paths.md.
 #pragma once
 
-#include "core/scene.h"
+#include "core/scene_contents.h"
 #include "passes/pipeline.h"
 
 #include <optional>
@@ -26,14 +26,6 @@ struct PipelineProblem {
 // of the rest of the pipeline; then the first problem is returned: a product needed before any
 // pass makes it, or two passes whose images hold a common light path.
 std::optional<PipelineProblem> checkPipeline(Pipeline& pipeline);
-
-// What the scene holds that decides which passes it needs.
-struct SceneContents {
-    bool diffuse = false;   // a surface with a diffuse or rough glossy lobe (D vertices)
-    bool specular = false;  // a surface with a specular (delta) lobe (S vertices)
-    size_t areaLights = 0, punctualLights = 0;
-};
-SceneContents analyseScene(const Scene& scene);
 
 struct PipelinePlan {
     std::string universe;  // the light paths the scene can hold, e.g. "L(D|S)*E"

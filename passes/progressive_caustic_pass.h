@@ -12,7 +12,7 @@
 #pragma once
 
 #include "caustics/progressive_caustics.h"
-#include "core/pass.h"
+#include "passes/pass.h"
 
 #include <memory>
 

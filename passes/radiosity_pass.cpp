@@ -5,6 +5,7 @@
 #include "core/stats.h"
 #include "radiosity/meshed_hit.h"
 #include "radiosity/solve_progress.h"
+#include "passes/sampling_pass.h"
 #include "raytrace/tracing_steps.h"
 
 namespace penumbra {
@@ -122,7 +123,7 @@ bool RadiosityPass::run(PassContext& context) {
     if (renderer_->samplesDone() < context.settings.spp)
         return false;
     progress_->finish();
-    renderer_->publish(context, type());
+    publishRenderedImage(context, *renderer_, type());
     return true;
 }
 

@@ -18,7 +18,7 @@
 // know what it holds. The progressive solver takes no photons.
 #pragma once
 
-#include "core/pass.h"
+#include "passes/pass.h"
 #include "core/progress.h"
 #include "radiosity/progressive_solver.h"
 #include "radiosity/radiosity_mesh.h"

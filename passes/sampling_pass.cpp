@@ -7,6 +7,18 @@
 
 namespace penumbra {
 
+void publishRenderedImage(PassContext& context, const ImageRenderer& renderer,
+                          const std::string& name) {
+    context.contribute(name, renderer.resolve());
+    const std::vector<std::string>& aovs = renderer.aovNames();
+    for (size_t a = 0; a < aovs.size(); ++a) {
+        if (isComponentAov(aovs[a]))
+            context.addToLayer(aovs[a], renderer.resolveAov(a));
+        else
+            context.layers[aovs[a]] = renderer.resolveAov(a);
+    }
+}
+
 void SamplingPass::prepare(PassContext& context) {
     renderer_ =
         std::make_unique<ImageRenderer>(context.camera, context.settings, makeEstimator(context));
@@ -38,7 +50,7 @@ bool SamplingPass::run(PassContext& context) {
     if (!done)
         return false;
     progress_->finish();
-    renderer_->publish(context, type());
+    publishRenderedImage(context, *renderer_, type());
     return true;
 }
 

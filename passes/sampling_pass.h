@@ -4,14 +4,19 @@
 // the contribution published under the pass's type with the AOVs, and the figures of the image.
 #pragma once
 
-#include "core/pass.h"
 #include "core/progress.h"
+#include "passes/pass.h"
 #include "raytrace/image_renderer.h"
 
 #include <chrono>
 #include <memory>
 
 namespace penumbra {
+
+// Publishes the renderer's image as the contribution `name` of a pass, and its AOV layers (adding
+// the light-path components to what earlier passes published: PassContext::addToLayer).
+void publishRenderedImage(PassContext& context, const ImageRenderer& renderer,
+                          const std::string& name);
 
 class SamplingPass : public Pass {
   public:

@@ -100,16 +100,6 @@ ImageRenderer::ImageRenderer(const Camera& camera, const RenderSettings& setting
         aovComponents_.push_back(componentIndex(aov));
 }
 
-void ImageRenderer::publish(PassContext& context, const std::string& name) const {
-    context.contribute(name, film_.resolve());
-    for (size_t a = 0; a < aovNames_.size(); ++a) {
-        if (aovComponents_[a] >= 0)
-            context.addToLayer(aovNames_[a], resolveAov(a));
-        else
-            context.layers[aovNames_[a]] = resolveAov(a);
-    }
-}
-
 Image ImageRenderer::resolveAov(size_t aov) const {
     if (aovNames_.at(aov) == "spp")
         return film_.resolveSampleCounts();

@@ -1,14 +1,13 @@
 // Forms an image from a per-ray radiance estimator: whole passes of one sample per pixel over
 // tiles in parallel (oneTBB), a filter-importance-sampled pixel footprint, NaN/Inf samples
-// dropped and counted, and optional AOV layers from the first hit. Every image-forming pass
-// (path tracing now; distribution ray tracing later) renders through it.
+// dropped and counted, and optional AOV layers from the first hit. Every image-forming pass that
+// samples camera rays renders through it (passes/sampling_pass.h).
 #pragma once
 
 #include "core/camera.h"
 #include "core/film.h"
-#include "core/pass.h"
 #include "core/render_settings.h"
-#include "raytrace/path_tracer.h"
+#include "raytrace/radiance_estimator.h"
 
 #include <atomic>
 #include <chrono>
@@ -26,10 +25,6 @@ std::vector<AovSpec> aovSpecs(const std::vector<std::string>& names);
 // Whether an AOV is a light-path component: such layers sum to the beauty, so every pass adds its
 // share to them instead of replacing them.
 bool isComponentAov(const std::string& name);
-
-// Radiance estimate for one camera ray (see PathTracer::Li for the contract).
-using RadianceEstimator =
-    std::function<PathRadiance(const Ray&, Sampler&, FirstHit*, PathCounters&)>;
 
 class ImageRenderer {
   public:
@@ -53,9 +48,6 @@ class ImageRenderer {
     // took.
     Image resolve() const { return film_.resolve(); }
     Image resolveAov(size_t aov) const;
-    // Publishes the image as the contribution `name` of a pass, and the AOV layers (adding the
-    // components to what earlier passes published: PassContext::addToLayer).
-    void publish(PassContext& context, const std::string& name) const;
     // AOV names in film order.
     const std::vector<std::string>& aovNames() const { return aovNames_; }
 

@@ -38,6 +38,7 @@
 #include "core/path_components.h"
 #include "core/ray.h"
 #include "core/scene.h"
+#include "raytrace/radiance_estimator.h"
 
 #include <cstdint>
 #include <string>
@@ -70,18 +71,6 @@ std::string pathTracerLightPaths(const PathTracerSettings& settings);
 // for the first few events, where no sampler dimension is drawn for it. Public so that the
 // benchmarks' ray recorder (bench/cornell_fixture.cpp) ends paths as the tracer does.
 float rouletteTerminationProbability(int depth, const Color& beta);
-
-// What the first visible surface looked like, for AOV layers.
-struct FirstHit {
-    bool valid = false;
-    Color albedo{0.0f};  // base colour at the first non-transparent hit
-    Vec3 normal{0.0f};   // shading normal, world space
-    float depth = 0.0f;  // distance from the camera, metres
-};
-
-struct PathCounters {
-    uint64_t rays = 0;  // closest-hit and shadow rays traced
-};
 
 class PathTracer {
   public:

@@ -254,7 +254,7 @@ Image renderInsideABox(const test::TestMaterial& wall, std::vector<std::unique_p
     const Camera camera(cameraDesc, settings.width, settings.height);
     Pipeline pipeline("box", std::move(passes));
     EXPECT_FALSE(checkPipeline(pipeline).has_value());
-    PassContext context(*scene, camera, settings);
+    PassContext context(*scene, analyseScene(*scene), camera, settings);
     EXPECT_TRUE(pipeline.run(context));
     return context.layers.at("beauty");
 }
@@ -316,7 +316,7 @@ TEST(Planner, CompositeIsTheExactSumOfTheContributions) {
     builder.addMaterial({});
     test::addCeilingLight(builder, 0.2f, 0.99f, 5.0f);
     const auto loaded = test::loadBuiltScene(builder, "planner_composite");
-    PassContext context(*loaded, camera, settings);
+    PassContext context(*loaded, analyseScene(*loaded), camera, settings);
     Image a(3, 2, {"R", "G", "B"}), b(3, 2, {"R", "G", "B"});
     for (size_t i = 0; i < a.pixels().size(); ++i) {
         a.pixels()[i] = 0.1f * static_cast<float>(i);

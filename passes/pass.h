@@ -16,6 +16,7 @@
 #include "core/image.h"
 #include "core/render_settings.h"
 #include "core/scene.h"
+#include "core/scene_contents.h"
 #include "core/stats.h"
 
 #include <any>
@@ -30,10 +31,12 @@ namespace penumbra {
 
 class PassContext {
   public:
-    PassContext(const Scene& scene, const Camera& camera, const RenderSettings& settings)
-        : scene(scene), camera(camera), settings(settings) {}
+    PassContext(const Scene& scene, const SceneContents& contents, const Camera& camera,
+                const RenderSettings& settings)
+        : scene(scene), contents(contents), camera(camera), settings(settings) {}
 
     const Scene& scene;
+    const SceneContents contents;  // the scene's analysis, done once (core/scene_contents.h)
     const Camera& camera;
     const RenderSettings& settings;
 

@@ -1,4 +1,4 @@
-#include "core/pass.h"
+#include "passes/pass.h"
 
 #include <stdexcept>
 
