@@ -2,9 +2,10 @@
 """Equal-time comparison of penumbra's pipelines with Blender Cycles on one glTF scene.
 
 Not a test and not part of the build: a benchmark script whose output docs/benchmarks.md quotes.
-It needs Blender and the peer harness of /work/shared/peers (see its README). Blender is a
-dependency of this benchmark only, never of the build or the tests, so scripts/setup does not
-install it; on Debian 12, as root:
+It needs Blender and the peer harness, by default ../shared/peers from the repository's root
+(the shared folder beside the repository; see its README, and --peers for another place).
+Blender is a dependency of this benchmark only, never of the build or the tests, so
+scripts/setup does not install it; on Debian 12, as root:
 
     DEBIAN_FRONTEND=noninteractive apt-get install -y blender python3-numpy python3-openimageio
 
@@ -209,7 +210,9 @@ def main():
                     help="an existing converged image to compare with (sets the size)")
     ap.add_argument("--size", type=int, default=256, help="image width and height without "
                     "--reference")
-    ap.add_argument("--peers", default="/work/shared/peers")
+    ap.add_argument("--peers", default=os.path.join(os.path.dirname(root), "shared", "peers"),
+                    help="the peer harness (cycles_render.py); default: shared/peers beside the "
+                    "repository (../shared/peers from its root), found from this script's place")
     ap.add_argument("--blender", default="blender")
     ap.add_argument("--workdir", default="/tmp/penumbra-cycles")
     ap.add_argument("--threads", type=int, default=os.cpu_count())
