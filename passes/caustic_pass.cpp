@@ -30,7 +30,7 @@ RadianceEstimator CausticPass::makeEstimator(PassContext& context) {
             std::make_shared<const CausticMap>(CausticMap::build(context.scene, seeded, &progress));
         progress.finish();
     }
-    context.publish<CausticMap>("caustic map", map_);
+    context.publish<CausticMap>(products::kCausticMap, map_);
     const SpecularChainSettings chain{maxSpecularDepth_, false};
     return [map = map_.get(), &scene = context.scene, chain](
                const Ray& ray, Sampler& sampler, FirstHit* firstHit, PathCounters& counters) {

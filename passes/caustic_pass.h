@@ -4,18 +4,24 @@
 // non-delta lobe, where the map's radiance estimate is taken.
 //
 // Contribution: image layer "caustics", light paths L S+ D S* E (the caustics seen directly or in
-// mirrors); products "caustics" (those paths are counted: a path pass with `caustics = "auto"`
-// leaves them out) and "caustic map" (the map, which a later radiosity pass takes into its
-// solution and a later path pass reuses at its second diffuse vertex).
+// mirrors), which a path pass with `caustics = "auto"` then leaves out (countsCausticPaths);
+// product: the caustic map, which a later radiosity pass takes into its solution and a later
+// path pass reuses at its second diffuse vertex.
 #pragma once
 
 #include "caustics/caustic_map.h"
+#include "passes/products.h"
 #include "passes/sampling_pass.h"
 
 #include <algorithm>
 #include <memory>
 
 namespace penumbra {
+
+// Why a caustic pass has nothing to do for a scene: no specular surface, so no caustic path.
+inline std::string causticPassSkipReason(const SceneContents& contents) {
+    return contents.specular ? "" : "no surface has a specular lobe, so there are no caustic paths";
+}
 
 class CausticPass : public SamplingPass {
   public:
@@ -24,7 +30,11 @@ class CausticPass : public SamplingPass {
 
     std::string type() const override { return "caustics"; }
     std::string lightPaths() const override { return "L S+ D S* E"; }
-    std::set<std::string> products() const override { return {"caustics", "caustic map"}; }
+    std::set<std::string> products() const override { return {products::kCausticMap}; }
+    TransportFlags transportFlags() const override { return {true, false}; }
+    std::string skipReason(const SceneContents& contents) const override {
+        return causticPassSkipReason(contents);
+    }
     PassStats parameters() const override;
     PassStats stats() const override;
 

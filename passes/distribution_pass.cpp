@@ -59,7 +59,7 @@ PassStats DistributionPass::stats() const {
 }
 
 RadianceEstimator DistributionPass::makeEstimator(PassContext& context) {
-    radiosity_ = context.product<RadiositySolution>("radiosity");
+    radiosity_ = context.product<RadiositySolution>(products::kRadiositySolution);
     const RadiositySolution* indirect = radiosity_.get();
     if (ambient_ == Ambient::RadiosityMean) {
         // Null when the planner skipped the radiosity pass: no diffuse surface to reflect.

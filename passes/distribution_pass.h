@@ -7,6 +7,7 @@
 // requested AOVs.
 #pragma once
 
+#include "passes/products.h"
 #include "passes/sampling_pass.h"
 #include "raytrace/distribution_tracer.h"
 
@@ -32,12 +33,12 @@ class DistributionPass : public SamplingPass {
                                              : distributionLightPaths(causticsInRadiosity_);
     }
     void adapt(const PipelineShape& shape) override {
-        causticsInRadiosity_ = shape.madeBefore.count("caustics in radiosity") > 0;
+        causticsInRadiosity_ = shape.causticsInRadiosity;
     }
     std::set<std::string> needs() const override {
         if (ambient_ == Ambient::Constant)
             return {};
-        return {"radiosity"};
+        return {products::kRadiositySolution};
     }
     PassStats parameters() const override;
     // SamplingPass's figures and, with the radiosity mean, the ambient radiance it gave.

@@ -58,9 +58,9 @@ class PassContext {
     // (core/path_components.h). The sizes and channels must match (std::logic_error).
     void addToLayer(const std::string& name, const Image& image);
 
-    // Read-only products passes hand to later passes, by name ("radiosity": the radiosity
-    // solution; "caustic map": the caustic photon map). The publisher keeps the type; a reader
-    // asks for the type it expects and gets null when the product is absent.
+    // Read-only products passes hand to later passes, by name (passes/products.h). The publisher
+    // keeps the type; a reader asks for the type it expects and gets null when the product is
+    // absent.
     template <typename T>
     void publish(const std::string& name, std::shared_ptr<const T> product) {
         products_[name] = std::move(product);
@@ -78,11 +78,24 @@ class PassContext {
     std::map<std::string, std::any> products_;
 };
 
+// What a pass's output holds that other passes' light-path declarations depend on: flags, not
+// data (the data a pass hands on are its products).
+struct TransportFlags {
+    // The pass's image counts the caustic paths L S+ D S* E (a caustic pass): a path pass in auto
+    // mode leaves them out.
+    bool countsCausticPaths = false;
+    // The pass's radiosity solution took the photons of a caustic map made before it, so it holds
+    // L S+ D+ as well: the passes that reuse it take those caustics through it.
+    bool solutionTakesCaustics = false;
+};
+
 // What a pass learns of the rest of its pipeline when the pipeline is planned.
 struct PipelineShape {
-    std::set<std::string> products;     // made by any pass of the pipeline
+    std::set<std::string> products;     // made by any pass of the pipeline (passes/products.h)
     std::set<std::string> madeBefore;   // made by a pass before this one
     std::set<std::string> neededLater;  // needed by a pass after this one
+    bool causticPathsCounted = false;   // some pass of the pipeline counts L S+ D S* E
+    bool causticsInRadiosity = false;   // a solution made before this pass holds L S+ D+
 };
 
 class Pass {
@@ -95,15 +108,22 @@ class Pass {
     // (core/light_paths.h), e.g. "L(D|S)*E"; "" when it adds no image (it only makes a product
     // for later passes). Valid after adapt().
     virtual std::string lightPaths() const = 0;
-    // Products (PassContext::publish) the pass makes, and those it needs from earlier passes.
+    // Products (PassContext::publish; names in passes/products.h) the pass makes, and those it
+    // needs from earlier passes.
     virtual std::set<std::string> products() const { return {}; }
     virtual std::set<std::string> needs() const { return {}; }
+    // What its output holds that the other passes' declarations depend on. Valid after adapt()
+    // (countsCausticPaths before it as well).
+    virtual TransportFlags transportFlags() const { return {}; }
     // Called once by the planner before prepare(): a pass may change its role by what the rest
     // of the pipeline does (a radiosity pass whose solution a later pass reuses shows no image
     // of its own; a path pass leaves caustic paths to a caustic pass).
     virtual void adapt(const PipelineShape&) {}
     // The pass's parameters as resolved, for the plan and the log.
     virtual PassStats parameters() const { return {}; }
+    // Why the pass has nothing to do for a scene with these contents, so that the planner skips
+    // it; "" when it runs. Valid after adapt().
+    virtual std::string skipReason(const SceneContents&) const { return ""; }
 
     virtual void prepare(PassContext& context) = 0;
     // Advances the pass; returns true when it has finished.

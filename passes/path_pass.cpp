@@ -1,6 +1,7 @@
 #include "passes/path_pass.h"
 
 #include "caustics/caustic_map.h"
+#include "passes/products.h"
 #include "radiosity/radiosity_solution.h"
 
 namespace penumbra {
@@ -8,20 +9,20 @@ namespace penumbra {
 std::set<std::string> PathPass::needs() const {
     std::set<std::string> needs;
     if (settings_.reuseRadiosity)
-        needs.insert("radiosity");
+        needs.insert(products::kRadiositySolution);
     if (settings_.causticsAtReuse)
-        needs.insert("caustic map");
+        needs.insert(products::kCausticMap);
     return needs;
 }
 
 void PathPass::adapt(const PipelineShape& shape) {
     settings_.excludeCaustics = caustics_ == Caustics::Exclude ||
-                                (caustics_ == Caustics::Auto && shape.products.count("caustics"));
+                                (caustics_ == Caustics::Auto && shape.causticPathsCounted);
     // A caustic map made before this pass also lights the second diffuse vertex.
-    settings_.causticsAtReuse = settings_.reuseRadiosity && shape.madeBefore.count("caustic map");
+    settings_.causticsAtReuse =
+        settings_.reuseRadiosity && shape.madeBefore.count(products::kCausticMap);
     // ... unless the solution took the map's photons, which then lights it through the solution.
-    settings_.causticsInRadiosity =
-        settings_.causticsAtReuse && shape.madeBefore.count("caustics in radiosity");
+    settings_.causticsInRadiosity = settings_.causticsAtReuse && shape.causticsInRadiosity;
 }
 
 PassStats PathPass::parameters() const {
@@ -33,8 +34,8 @@ PassStats PathPass::parameters() const {
 }
 
 RadianceEstimator PathPass::makeEstimator(PassContext& context) {
-    radiosity_ = context.product<RadiositySolution>("radiosity");
-    causticMap_ = context.product<CausticMap>("caustic map");
+    radiosity_ = context.product<RadiositySolution>(products::kRadiositySolution);
+    causticMap_ = context.product<CausticMap>(products::kCausticMap);
     PathTracerSettings settings = settings_;
     // The ray from a reuse vertex to the specular surfaces it sees would find none (the
     // planner's analysis, which also skips the caustic pass then).

@@ -2,8 +2,8 @@
 // is the `reference` pipeline, the ground truth of every other pipeline; in the `hybrid` pipeline
 // it reuses the radiosity solution at the second diffuse vertex and leaves caustic paths to the
 // caustic pass; when that pass comes first, its map also lights the second diffuse vertex, through
-// the solution when the radiosity pass took the photons ("caustics in radiosity"; then the map
-// adds only the glossy lobes' share there).
+// the solution when the radiosity pass took the photons (PipelineShape::causticsInRadiosity;
+// then the map adds only the glossy lobes' share there).
 //
 // Contribution: image layer "path" (the light paths of pathTracerLightPaths()), and the
 // requested AOVs.

@@ -1,8 +1,7 @@
 #include "passes/planner.h"
 
 #include "core/light_paths.h"
-
-#include <algorithm>
+#include "passes/products.h"
 
 namespace penumbra {
 
@@ -27,6 +26,8 @@ std::optional<PipelineProblem> checkPipeline(Pipeline& pipeline) {
     for (const auto& pass : passes) {
         for (const std::string& product : pass->products())
             shape.products.insert(product);
+        shape.causticPathsCounted =
+            shape.causticPathsCounted || pass->transportFlags().countsCausticPaths;
     }
     for (size_t i = 0; i < passes.size(); ++i) {
         shape.neededLater.clear();
@@ -37,18 +38,18 @@ std::optional<PipelineProblem> checkPipeline(Pipeline& pipeline) {
         passes[i]->adapt(shape);
         for (const std::string& product : passes[i]->products())
             shape.madeBefore.insert(product);
+        shape.causticsInRadiosity =
+            shape.causticsInRadiosity || passes[i]->transportFlags().solutionTakesCaustics;
     }
 
     std::set<std::string> made;
     for (size_t i = 0; i < passes.size(); ++i) {
         for (const std::string& need : passes[i]->needs()) {
             if (made.count(need) == 0) {
-                // Products are named after the pass type that makes them, but the map.
-                const std::string maker = need == "caustic map" ? "caustics" : need;
                 return PipelineProblem{i, passName(i, *passes[i]) + " reuses the " + need +
                                               " product, which no earlier pass makes: put a pass "
                                               "of type '" +
-                                              maker + "' before it"};
+                                              products::passTypeMaking(need) + "' before it"};
             }
         }
         for (const std::string& product : passes[i]->products())
@@ -98,11 +99,7 @@ PipelinePlan planForScene(Pipeline& pipeline, const SceneContents& contents) {
     PathSet counted = PathSet::parse("");
     for (size_t i = 0; i < passes.size(); ++i) {
         const Pass& pass = *passes[i];
-        std::string skip;
-        if (pass.type() == "caustics" && !contents.specular)
-            skip = "no surface has a specular lobe, so there are no caustic paths";
-        else if (pass.type() == "radiosity" && pass.lightPaths().empty() && !contents.diffuse)
-            skip = "no surface has a diffuse lobe, so the solution would be zero";
+        const std::string skip = pass.skipReason(contents);
         if (!skip.empty()) {
             pipeline.skip(i);
             plan.decisions.push_back(passName(i, pass) + ": skipped: " + skip);

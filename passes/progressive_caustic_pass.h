@@ -5,14 +5,15 @@
 // answer as iterations are added instead of to a blurred one. `method = "progressive"` of a
 // caustics pass.
 //
-// Contribution: image layer "caustics", light paths L S+ D S* E, like the photon-map pass; product
-// "caustics" (a path pass leaves those paths to it) but no caustic map for a later pass to reuse.
+// Contribution: image layer "caustics", light paths L S+ D S* E, like the photon-map pass (a path
+// pass leaves those paths to it: countsCausticPaths), but no caustic map for a later pass to
+// reuse.
 // A visible point is the first vertex with a non-delta lobe: the caustic seen at a further vertex
 // through a smooth coat's reflection (a surface with both kinds of lobe) is left out.
 #pragma once
 
 #include "caustics/progressive_caustics.h"
-#include "passes/pass.h"
+#include "passes/caustic_pass.h"
 
 #include <memory>
 
@@ -27,7 +28,10 @@ class ProgressiveCausticPass : public Pass {
 
     std::string type() const override { return "caustics"; }
     std::string lightPaths() const override { return "L S+ D S* E"; }
-    std::set<std::string> products() const override { return {"caustics"}; }
+    TransportFlags transportFlags() const override { return {true, false}; }
+    std::string skipReason(const SceneContents& contents) const override {
+        return causticPassSkipReason(contents);
+    }
     PassStats parameters() const override;
     void prepare(PassContext& context) override;
     // One iteration; finished after `iterations` of them (whatever the time limit).

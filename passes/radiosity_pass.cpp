@@ -3,9 +3,9 @@
 #include "caustics/caustic_map.h"
 #include "core/material.h"
 #include "core/stats.h"
+#include "passes/sampling_pass.h"
 #include "radiosity/meshed_hit.h"
 #include "radiosity/solve_progress.h"
-#include "passes/sampling_pass.h"
 #include "raytrace/tracing_steps.h"
 
 namespace penumbra {
@@ -21,16 +21,16 @@ RadiosityPass::RadiosityPass(ProgressiveSettings settings) : settings_(settings)
 
 RadiosityPass::~RadiosityPass() = default;
 
-std::set<std::string> RadiosityPass::products() const {
-    if (takesCaustics_)
-        return {"radiosity", "caustics in radiosity"};
-    return {"radiosity"};
+void RadiosityPass::adapt(const PipelineShape& shape) {
+    view_ = !shape.neededLater.count(products::kRadiositySolution);
+    takesCaustics_ = caustics_ == Caustics::Auto && shape.madeBefore.count(products::kCausticMap) &&
+                     std::holds_alternative<RadiositySettings>(settings_);
 }
 
-void RadiosityPass::adapt(const PipelineShape& shape) {
-    view_ = !shape.neededLater.count("radiosity");
-    takesCaustics_ = caustics_ == Caustics::Auto && shape.madeBefore.count("caustic map") &&
-                     std::holds_alternative<RadiositySettings>(settings_);
+std::string RadiosityPass::skipReason(const SceneContents& contents) const {
+    if (!view_ && !contents.diffuse)
+        return "no surface has a diffuse lobe, so the solution would be zero";
+    return "";
 }
 
 namespace {
@@ -61,8 +61,9 @@ void RadiosityPass::prepare(PassContext& context) {
     if (const auto* hierarchical = std::get_if<RadiositySettings>(&settings_)) {
         mesh(hierarchical->meshing(context.scene));
         const std::vector<FluxDeposit> deposits =
-            takesCaustics_ ? causticDeposits(context.product<CausticMap>("caustic map").get())
-                           : std::vector<FluxDeposit>{};
+            takesCaustics_
+                ? causticDeposits(context.product<CausticMap>(products::kCausticMap).get())
+                : std::vector<FluxDeposit>{};
         auto solver =
             std::make_unique<RadiositySolver>(context.scene, *mesh_, *hierarchical, deposits);
         solver->solve(&progress);
@@ -77,7 +78,8 @@ void RadiosityPass::prepare(PassContext& context) {
     }
     // The solution refers to the mesh: the product keeps both alive for the passes after.
     context.publish<RadiositySolution>(
-        "radiosity", std::shared_ptr<const RadiositySolution>(mesh_, solution_.get()));
+        products::kRadiositySolution,
+        std::shared_ptr<const RadiositySolution>(mesh_, solution_.get()));
     if (!view_)
         return;
     renderer_ = std::make_unique<ImageRenderer>(

@@ -13,13 +13,14 @@
 // Caustics: when a caustic pass made a photon map before it, the hierarchical solver takes the
 // photons' flux as deposited light (radiosity/deposited_flux.h), so that the solution also holds
 // L S+ D+ (indirect caustics: light through the glass onto the floor, then to the walls), unless
-// the pass is told to leave them out (Caustics::Exclude, the script's caustics = "exclude"). It
-// then also makes the product "caustics in radiosity", by which the passes reusing the solution
+// the pass is told to leave them out (Caustics::Exclude, the script's caustics = "exclude"). Its
+// transport flags then say so (solutionTakesCaustics), by which the passes reusing the solution
 // know what it holds. The progressive solver takes no photons.
 #pragma once
 
-#include "passes/pass.h"
 #include "core/progress.h"
+#include "passes/pass.h"
+#include "passes/products.h"
 #include "radiosity/progressive_solver.h"
 #include "radiosity/radiosity_mesh.h"
 #include "radiosity/radiosity_solver.h"
@@ -46,8 +47,11 @@ class RadiosityPass : public Pass {
     std::string lightPaths() const override {
         return !view_ ? "" : takesCaustics_ ? "L D* E | L S+ D+ E" : "LD*E";
     }
-    std::set<std::string> products() const override;
+    std::set<std::string> products() const override { return {products::kRadiositySolution}; }
+    TransportFlags transportFlags() const override { return {false, takesCaustics_}; }
     void adapt(const PipelineShape& shape) override;
+    // A solution that only later passes reuse is zero without a diffuse surface: skipped then.
+    std::string skipReason(const SceneContents& contents) const override;
     PassStats parameters() const override;
     // Meshes the scene and solves (the long part); the image is formed by run().
     void prepare(PassContext& context) override;

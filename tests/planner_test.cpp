@@ -70,15 +70,13 @@ TEST(Planner, PathTracerDeclarationsAreTheSetsTheyStandFor) {
                 std::vector<std::string>{"L S D D D E"});
 }
 
-// A stand-in for a pass the registry does not have yet, with a declared set of paths.
+// A stand-in for a pass the registry does not have, with a declared set of paths and nothing
+// else: the planner knows a pass only by what it declares.
 class DeclaredPass : public Pass {
   public:
     DeclaredPass(std::string type, std::string paths) : type_(type), paths_(paths) {}
     std::string type() const override { return type_; }
     std::string lightPaths() const override { return paths_; }
-    std::set<std::string> products() const override {
-        return type_ == "caustics" ? std::set<std::string>{"caustics"} : std::set<std::string>{};
-    }
     void prepare(PassContext&) override {}
     bool run(PassContext&) override { return true; }
     PassStats stats() const override { return {}; }
@@ -91,7 +89,7 @@ Pipeline hybridWithCaustics(PathPass::Caustics caustics) {
     std::vector<std::unique_ptr<Pass>> passes;
     passes.push_back(std::make_unique<RadiosityPass>(RadiositySettings{}));
     passes.push_back(std::make_unique<PathPass>(tracer(true, false), caustics));
-    passes.push_back(std::make_unique<DeclaredPass>("caustics", "L S+ D S* E"));
+    passes.push_back(std::make_unique<CausticPass>(CausticSettings{}));
     return Pipeline("hybrid", std::move(passes));
 }
 
@@ -120,7 +118,7 @@ TEST(Planner, HybridPresetFeedsTheCausticPhotonsToTheSolution) {
     ASSERT_EQ(passes.size(), 3u);
     EXPECT_EQ(passes[0]->type(), "caustics");
     EXPECT_EQ(passes[1]->type(), "radiosity");
-    EXPECT_TRUE(passes[1]->products().count("caustics in radiosity"));
+    EXPECT_TRUE(passes[1]->transportFlags().solutionTakesCaustics);
     PathTracerSettings expected = tracer(true, true);
     expected.causticsAtReuse = true;
     expected.causticsInRadiosity = true;
