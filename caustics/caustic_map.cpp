@@ -78,15 +78,6 @@ std::string kernelName(CausticKernel kernel) {
     return "?";
 }
 
-std::optional<CausticKernel> parseKernel(const std::string& name) {
-    for (CausticKernel k :
-         {CausticKernel::Cone, CausticKernel::Epanechnikov, CausticKernel::Gaussian}) {
-        if (name == kernelName(k))
-            return k;
-    }
-    return std::nullopt;
-}
-
 float CausticSettings::resolvedMaxRadius(const Scene& scene) const {
     if (maxRadius > 0.0f)
         return maxRadius;

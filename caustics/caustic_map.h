@@ -43,9 +43,8 @@ class Scene;
 //                 Jensen 2001, chapter 7), c its exact disc integral (see caustic_map.cpp).
 enum class CausticKernel { Cone, Epanechnikov, Gaussian };
 
+// "cone", "epanechnikov", "gaussian": the kernel's name in pass scripts and the log.
 std::string kernelName(CausticKernel kernel);
-// The kernel called `name` ("cone", "epanechnikov", "gaussian"), or nothing.
-std::optional<CausticKernel> parseKernel(const std::string& name);
 
 // The parameters of the caustic pass; their table (key, type, default, meaning) is at the top of
 // caustic_map.cpp.

@@ -2,9 +2,48 @@
 
 #include "core/progress.h"
 #include "core/stats.h"
+#include "passes/progressive_caustic_pass.h"
 #include "raytrace/specular_chain.h"
 
 namespace penumbra {
+
+namespace {
+
+const NamedValues<std::string> kMethods = {{"photon_map", "photon_map"},
+                                           {"progressive", "progressive"}};
+const NamedValues<CausticKernel> kKernels = {
+    {kernelName(CausticKernel::Cone), CausticKernel::Cone},
+    {kernelName(CausticKernel::Epanechnikov), CausticKernel::Epanechnikov},
+    {kernelName(CausticKernel::Gaussian), CausticKernel::Gaussian}};
+
+// The script keys of the photon-map pass (CausticSettings' table at the top of
+// caustics/caustic_map.cpp, and the view's), in the order the plan prints them.
+template <typename Settings, typename Count, typename Keys>
+void photonMapKeys(Settings& s, Count& maxSpecularDepth, Count& viewSpp, Keys& keys) {
+    keys("photons", s.photons);
+    keys("k", s.k);
+    keys.orAuto("max_radius", s.maxRadius, 0.0f);
+    keys.choice("kernel", s.kernel, kKernels, "kernel");
+    keys("seed", s.seed);
+    keys("max_specular_depth", maxSpecularDepth, 0, kMaxDepthLimit);
+    keys("view_spp", viewSpp, 1, std::numeric_limits<int>::max());
+}
+
+}  // namespace
+
+std::unique_ptr<Pass> CausticPass::fromScript(const ScriptTable& table,
+                                              const PassOverrides& overrides) {
+    ParameterReader keys(table);
+    std::string method = "photon_map";
+    keys.choice("method", method, kMethods, "method");
+    if (method == "progressive")
+        return ProgressiveCausticPass::fromScript(table, overrides);
+    CausticSettings settings;
+    int maxSpecularDepth = 16, viewSpp = 16;
+    photonMapKeys(settings, maxSpecularDepth, viewSpp, keys);
+    keys.check("caustics.", [&] { validateCausticSettings(settings); });
+    return std::make_unique<CausticPass>(settings, maxSpecularDepth, viewSpp);
+}
 
 CausticPass::CausticPass(CausticSettings settings, int maxSpecularDepth, int viewSpp)
     : settings_(settings), maxSpecularDepth_(maxSpecularDepth), viewSpp_(viewSpp) {
@@ -12,12 +51,10 @@ CausticPass::CausticPass(CausticSettings settings, int maxSpecularDepth, int vie
 }
 
 PassStats CausticPass::parameters() const {
-    return {{"photons", std::to_string(settings_.photons)},
-            {"k", std::to_string(settings_.k)},
-            {"max_radius", settings_.maxRadius > 0.0f ? formatStat(settings_.maxRadius) : "auto"},
-            {"kernel", kernelName(settings_.kernel)},
-            {"max_specular_depth", std::to_string(maxSpecularDepth_)},
-            {"view_spp", std::to_string(viewSpp_)}};
+    ParameterPrinter print;
+    print("method", std::string("photon_map"));
+    photonMapKeys(settings_, maxSpecularDepth_, viewSpp_, print);
+    return print.stats();
 }
 
 RadianceEstimator CausticPass::makeEstimator(PassContext& context) {

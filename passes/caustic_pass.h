@@ -10,6 +10,7 @@
 #pragma once
 
 #include "caustics/caustic_map.h"
+#include "passes/pass_parameters.h"
 #include "passes/products.h"
 #include "passes/sampling_pass.h"
 
@@ -27,6 +28,11 @@ class CausticPass : public SamplingPass {
   public:
     // Validates the settings (UsageError naming the key).
     explicit CausticPass(CausticSettings settings, int maxSpecularDepth = 16, int viewSpp = 16);
+    // The pass of a script's [[pass]] table of type "caustics": `method` picks the
+    // reconstruction, a photon map (this pass) or stochastic progressive photon mapping
+    // (ProgressiveCausticPass), and so the keys that are valid; each set is checked by its
+    // validate function.
+    static std::unique_ptr<Pass> fromScript(const ScriptTable& table, const PassOverrides&);
 
     std::string type() const override { return "caustics"; }
     std::string lightPaths() const override { return "L S+ D S* E"; }

@@ -7,6 +7,9 @@
 #pragma once
 
 #include "passes/pass.h"
+#include "passes/pass_parameters.h"
+
+#include <memory>
 
 namespace penumbra {
 
@@ -16,6 +19,10 @@ void compositeContributions(PassContext& context);
 
 class CompositePass : public Pass {
   public:
+    // The pass of a script's [[pass]] table of type "composite" (no parameters).
+    static std::unique_ptr<Pass> fromScript(const ScriptTable&, const PassOverrides&) {
+        return std::make_unique<CompositePass>();
+    }
     std::string type() const override { return "composite"; }
     std::string lightPaths() const override { return ""; }
     void prepare(PassContext&) override {}

@@ -5,8 +5,49 @@
 #include "radiosity/radiosity_solution.h"
 
 #include <array>
+#include <limits>
 
 namespace penumbra {
+
+namespace {
+
+// Whitted's `ambient` as a script gives it: a grey radiance (cd/m²) >= 0, or this value for the
+// word "radiosity" (the solution's mean).
+constexpr float kAmbientFromSolution = -1.0f;
+
+// The script keys of the distribution pass and, with the ambient term, of the whitted pass, in
+// the order the plan prints them.
+template <typename Settings, typename Keys>
+void distributionKeys(Settings& s, Keys& keys) {
+    keys("max_specular_depth", s.maxSpecularDepth, 0, kMaxDepthLimit);
+}
+template <typename Settings, typename Ambient, typename Keys>
+void whittedKeys(Settings& s, Ambient& ambient, Keys& keys) {
+    distributionKeys(s, keys);
+    keys.orWord("ambient", ambient, "radiosity", kAmbientFromSolution, 0.0f,
+                std::numeric_limits<float>::max());
+}
+
+}  // namespace
+
+std::unique_ptr<Pass> DistributionPass::fromScript(const ScriptTable& table, const PassOverrides&) {
+    ParameterReader keys(table);
+    DistributionSettings settings;
+    distributionKeys(settings, keys);
+    return std::make_unique<DistributionPass>(settings);
+}
+
+std::unique_ptr<Pass> DistributionPass::whittedFromScript(const ScriptTable& table,
+                                                          const PassOverrides&) {
+    ParameterReader keys(table);
+    DistributionSettings settings;
+    float ambient = 0.0f;
+    whittedKeys(settings, ambient, keys);
+    if (ambient == kAmbientFromSolution)
+        return std::make_unique<DistributionPass>(settings, Ambient::RadiosityMean);
+    settings.ambient = Color(ambient);
+    return std::make_unique<DistributionPass>(settings, Ambient::Constant);
+}
 
 Color meanReflectedRadiance(const Scene& scene, const RadiositySolution& solution) {
     constexpr std::array<Vec3, 3> kEdgeMidpoints = {Vec3(0.5f, 0.5f, 0.0f), Vec3(0.0f, 0.5f, 0.5f),
@@ -40,12 +81,16 @@ Color meanReflectedRadiance(const Scene& scene, const RadiositySolution& solutio
 }
 
 PassStats DistributionPass::parameters() const {
-    PassStats parameters = {{"max_specular_depth", std::to_string(settings_.maxSpecularDepth)}};
-    if (ambient_ == Ambient::Constant)
-        parameters.push_back({"ambient", formatStat(settings_.ambient.r)});
-    if (ambient_ == Ambient::RadiosityMean)
-        parameters.push_back({"ambient", "radiosity"});
-    return parameters;
+    ParameterPrinter print;
+    if (ambient_ == Ambient::Radiosity) {
+        distributionKeys(settings_, print);
+    } else {
+        // The mean replaces settings_.ambient once the solution exists: print its source.
+        const float ambient =
+            ambient_ == Ambient::RadiosityMean ? kAmbientFromSolution : settings_.ambient.r;
+        whittedKeys(settings_, ambient, print);
+    }
+    return print.stats();
 }
 
 PassStats DistributionPass::stats() const {

@@ -7,6 +7,7 @@
 // requested AOVs.
 #pragma once
 
+#include "passes/pass_parameters.h"
 #include "passes/products.h"
 #include "passes/sampling_pass.h"
 #include "raytrace/distribution_tracer.h"
@@ -22,6 +23,10 @@ class DistributionPass : public SamplingPass {
 
     DistributionPass(DistributionSettings settings, Ambient ambient = Ambient::Radiosity)
         : settings_(settings), ambient_(ambient) {}
+    // The passes of a script's [[pass]] tables of types "distribution" and "whitted" (whose
+    // `ambient` is a radiance or "radiosity", the solution's mean).
+    static std::unique_ptr<Pass> fromScript(const ScriptTable& table, const PassOverrides&);
+    static std::unique_ptr<Pass> whittedFromScript(const ScriptTable& table, const PassOverrides&);
 
     std::string type() const override {
         return ambient_ == Ambient::Radiosity ? "distribution" : "whitted";

@@ -6,6 +6,32 @@
 
 namespace penumbra {
 
+namespace {
+
+const NamedValues<PathPass::Caustics> kCausticsModes = {{"auto", PathPass::Caustics::Auto},
+                                                        {"include", PathPass::Caustics::Include},
+                                                        {"exclude", PathPass::Caustics::Exclude}};
+
+// The script keys of the path pass, in the order the plan prints them.
+template <typename Settings, typename Mode, typename Keys>
+void pathKeys(Settings& s, Mode& caustics, Keys& keys) {
+    keys("max_depth", s.maxDepth, -1, kMaxDepthLimit);
+    keys("radiosity", s.reuseRadiosity);
+    keys.choice("caustics", caustics, kCausticsModes);
+}
+
+}  // namespace
+
+std::unique_ptr<Pass> PathPass::fromScript(const ScriptTable& table,
+                                           const PassOverrides& overrides) {
+    ParameterReader keys(table);
+    PathTracerSettings settings;
+    Caustics caustics = Caustics::Auto;
+    pathKeys(settings, caustics, keys);
+    settings.maxDepth = overrides.maxDepth.value_or(settings.maxDepth);
+    return std::make_unique<PathPass>(settings, caustics);
+}
+
 std::set<std::string> PathPass::needs() const {
     std::set<std::string> needs;
     if (settings_.reuseRadiosity)
@@ -26,11 +52,9 @@ void PathPass::adapt(const PipelineShape& shape) {
 }
 
 PassStats PathPass::parameters() const {
-    return {{"max_depth", std::to_string(settings_.maxDepth)},
-            {"radiosity", settings_.reuseRadiosity ? "true" : "false"},
-            {"caustics", caustics_ == Caustics::Auto      ? "auto"
-                         : caustics_ == Caustics::Include ? "include"
-                                                          : "exclude"}};
+    ParameterPrinter print;
+    pathKeys(settings_, caustics_, print);
+    return print.stats();
 }
 
 RadianceEstimator PathPass::makeEstimator(PassContext& context) {

@@ -9,6 +9,7 @@
 // requested AOVs.
 #pragma once
 
+#include "passes/pass_parameters.h"
 #include "passes/sampling_pass.h"
 #include "raytrace/path_tracer.h"
 
@@ -22,6 +23,9 @@ class PathPass : public SamplingPass {
 
     PathPass(PathTracerSettings settings, Caustics caustics = Caustics::Auto)
         : settings_(settings), caustics_(caustics) {}
+    // The pass of a script's [[pass]] table of type "path"; --max-depth replaces its max_depth.
+    static std::unique_ptr<Pass> fromScript(const ScriptTable& table,
+                                            const PassOverrides& overrides);
 
     std::string type() const override { return "path"; }
     std::string lightPaths() const override { return pathTracerLightPaths(settings_); }

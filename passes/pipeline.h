@@ -3,6 +3,7 @@
 #pragma once
 
 #include "passes/pass.h"
+#include "passes/pass_parameters.h"
 #include "passes/pass_script.h"
 
 #include <functional>
@@ -47,19 +48,13 @@ std::vector<std::string> pipelinePresetNames();
 // A built-in pipeline by name; UsageError listing the valid names for an unknown one.
 Pipeline makePipelinePreset(const std::string& name, const RenderSettings& settings);
 
-// Command-line values that replace a pass parameter in every pass of a script that has it
-// (docs/pass-scripts.md, "Precedence"); absent = the script's value.
-struct PassOverrides {
-    std::optional<int> maxDepth;  // --max-depth: `max_depth` of the path passes
-};
-
 // The pass types a script's [[pass]] may name, in the order messages list them.
 std::vector<std::string> passTypeNames();
 
 // The pipeline of a pass script, named after the script's file name: each [[pass]] is built by
-// its type's factory in passes/registry.cpp, which reads the table's parameters; keys nobody
-// read are then refused. Throws ScriptError at the place of a missing or unknown type, a bad or
-// unknown parameter, or an impossible combination of passes.
+// its type's constructor (the pass's fromScript, listed in passes/registry.cpp), which reads the
+// table's parameters; keys nobody read are then refused. Throws ScriptError at the place of a
+// missing or unknown type, a bad or unknown parameter, or an impossible combination of passes.
 Pipeline makeScriptPipeline(const PassScript& script, const PassOverrides& overrides = {});
 
 }  // namespace penumbra

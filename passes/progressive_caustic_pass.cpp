@@ -10,6 +10,7 @@
 #include <tbb/parallel_for.h>
 
 #include <chrono>
+#include <limits>
 #include <vector>
 
 namespace penumbra {
@@ -26,6 +27,18 @@ size_t measurement(size_t pixel, bool throughSpecular) {
     return pixel * kMeasurementsPerPixel + (throughSpecular ? 1 : 0);
 }
 
+// The script keys of the pass (ProgressiveCausticSettings' and the iterations), in the order the
+// plan prints them after `method`.
+template <typename Settings, typename Count, typename Keys>
+void progressiveCausticKeys(Settings& s, Count& iterations, Count& maxSpecularDepth, Keys& keys) {
+    keys("iterations", iterations, 1, std::numeric_limits<int>::max());
+    keys("photons_per_iteration", s.photonsPerIteration);
+    keys.orAuto("initial_radius", s.initialRadius, 0.0f);
+    keys("alpha", s.alpha);
+    keys("seed", s.seed);
+    keys("max_specular_depth", maxSpecularDepth, 0, kMaxDepthLimit);
+}
+
 }  // namespace
 
 ProgressiveCausticPass::ProgressiveCausticPass(ProgressiveCausticSettings settings, int iterations,
@@ -36,14 +49,21 @@ ProgressiveCausticPass::ProgressiveCausticPass(ProgressiveCausticSettings settin
 
 ProgressiveCausticPass::~ProgressiveCausticPass() = default;
 
+std::unique_ptr<Pass> ProgressiveCausticPass::fromScript(const ScriptTable& table,
+                                                         const PassOverrides&) {
+    ParameterReader keys(table);
+    ProgressiveCausticSettings settings;
+    int iterations = 64, maxSpecularDepth = 16;
+    progressiveCausticKeys(settings, iterations, maxSpecularDepth, keys);
+    keys.check("caustics.", [&] { validateProgressiveCausticSettings(settings); });
+    return std::make_unique<ProgressiveCausticPass>(settings, iterations, maxSpecularDepth);
+}
+
 PassStats ProgressiveCausticPass::parameters() const {
-    return {{"method", "progressive"},
-            {"iterations", std::to_string(iterations_)},
-            {"photons_per_iteration", std::to_string(settings_.photonsPerIteration)},
-            {"initial_radius",
-             settings_.initialRadius > 0.0f ? formatStat(settings_.initialRadius) : "auto"},
-            {"alpha", formatStat(settings_.alpha)},
-            {"max_specular_depth", std::to_string(maxSpecularDepth_)}};
+    ParameterPrinter print;
+    print("method", std::string("progressive"));
+    progressiveCausticKeys(settings_, iterations_, maxSpecularDepth_, print);
+    return print.stats();
 }
 
 void ProgressiveCausticPass::prepare(PassContext& context) {

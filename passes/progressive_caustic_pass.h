@@ -25,6 +25,8 @@ class ProgressiveCausticPass : public Pass {
     ProgressiveCausticPass(ProgressiveCausticSettings settings, int iterations,
                            int maxSpecularDepth);
     ~ProgressiveCausticPass() override;
+    // The pass of a [[pass]] table of type "caustics" with method = "progressive".
+    static std::unique_ptr<Pass> fromScript(const ScriptTable& table, const PassOverrides&);
 
     std::string type() const override { return "caustics"; }
     std::string lightPaths() const override { return "L S+ D S* E"; }

@@ -10,30 +10,46 @@
 
 namespace penumbra {
 
-RadiosityPass::RadiosityPass(RadiositySettings settings, Caustics caustics)
-    : settings_(std::move(settings)), caustics_(caustics) {
-    validateRadiositySettings(std::get<RadiositySettings>(settings_));
-}
-
-RadiosityPass::RadiosityPass(ProgressiveSettings settings) : settings_(settings) {
-    validateProgressiveSettings(settings);
-}
-
-RadiosityPass::~RadiosityPass() = default;
-
-void RadiosityPass::adapt(const PipelineShape& shape) {
-    view_ = !shape.neededLater.count(products::kRadiositySolution);
-    takesCaustics_ = caustics_ == Caustics::Auto && shape.madeBefore.count(products::kCausticMap) &&
-                     std::holds_alternative<RadiositySettings>(settings_);
-}
-
-std::string RadiosityPass::skipReason(const SceneContents& contents) const {
-    if (!view_ && !contents.diffuse)
-        return "no surface has a diffuse lobe, so the solution would be zero";
-    return "";
-}
-
 namespace {
+
+const NamedValues<std::string> kSolvers = {{"hierarchical", "hierarchical"},
+                                           {"progressive", "progressive"}};
+const NamedValues<RadiosityPass::Caustics> kCausticsModes = {
+    {"auto", RadiosityPass::Caustics::Auto}, {"exclude", RadiosityPass::Caustics::Exclude}};
+const NamedValues<RadiositySettings::Iteration> kIterations = {
+    {"gauss-seidel", RadiositySettings::Iteration::GaussSeidel},
+    {"jacobi", RadiositySettings::Iteration::Jacobi}};
+
+// The script keys of the hierarchical solver (the table at the top of
+// radiosity/radiosity_solver.cpp), in the order the plan prints them; sizes of 0 are the solver's
+// automatic ones until the scene resolves them.
+template <typename Settings, typename Keys>
+void hierarchicalKeys(Settings& s, Keys& keys) {
+    keys("epsilon", s.epsilon);
+    keys.orAuto("patch_edge_length", s.patchEdgeLength, 0.0f);
+    keys.orAuto("min_element_area", s.minElementArea, 0.0f);
+    keys("convergence", s.convergence);
+    keys("visibility_samples", s.visibilitySamples);
+    keys("max_iterations", s.maxIterations);
+    keys("max_refinements", s.maxRefinements);
+    keys.choice("iteration", s.iteration, kIterations, "iteration");
+    keys("cluster_min_patches", s.clusterMinPatches);
+    keys("subdivision_threshold", s.subdivisionThreshold);
+    keys.orAuto("final_gather", s.finalGatherRays, RadiositySettings::kAutoFinalGather, 0,
+                RadiositySettings::kMaxFinalGatherRays);
+}
+
+// The script keys of progressive refinement (radiosity/progressive_solver.cpp's table).
+template <typename Settings, typename Keys>
+void progressiveKeys(Settings& s, Keys& keys) {
+    keys.orAuto("patch_edge_length", s.patchEdgeLength, 0.0f);
+    keys("element_area", s.elementArea);
+    keys("threshold", s.threshold);
+    keys("max_shots", s.maxShots);
+    keys("visibility_samples", s.visibilitySamples);
+    keys("adaptive_visibility", s.adaptiveVisibility);
+    keys("ambient", s.ambient);
+}
 
 // The caustic photons as flux deposited where they landed.
 std::vector<FluxDeposit> causticDeposits(const CausticMap* map) {
@@ -48,6 +64,47 @@ std::vector<FluxDeposit> causticDeposits(const CausticMap* map) {
 }
 
 }  // namespace
+
+RadiosityPass::RadiosityPass(RadiositySettings settings, Caustics caustics)
+    : settings_(std::move(settings)), caustics_(caustics) {
+    validateRadiositySettings(std::get<RadiositySettings>(settings_));
+}
+
+RadiosityPass::RadiosityPass(ProgressiveSettings settings) : settings_(settings) {
+    validateProgressiveSettings(settings);
+}
+
+RadiosityPass::~RadiosityPass() = default;
+
+std::unique_ptr<Pass> RadiosityPass::fromScript(const ScriptTable& table, const PassOverrides&) {
+    ParameterReader keys(table);
+    std::string solver = "hierarchical";
+    keys.choice("solver", solver, kSolvers, "solver");
+    if (solver == "progressive") {
+        ProgressiveSettings s;
+        progressiveKeys(s, keys);
+        keys.check("radiosity.", [&] { validateProgressiveSettings(s); });
+        return std::make_unique<RadiosityPass>(s);
+    }
+    RadiositySettings s;
+    Caustics caustics = Caustics::Auto;
+    keys.choice("caustics", caustics, kCausticsModes);
+    hierarchicalKeys(s, keys);
+    keys.check("radiosity.", [&] { validateRadiositySettings(s); });
+    return std::make_unique<RadiosityPass>(s, caustics);
+}
+
+void RadiosityPass::adapt(const PipelineShape& shape) {
+    view_ = !shape.neededLater.count(products::kRadiositySolution);
+    takesCaustics_ = caustics_ == Caustics::Auto && shape.madeBefore.count(products::kCausticMap) &&
+                     std::holds_alternative<RadiositySettings>(settings_);
+}
+
+std::string RadiosityPass::skipReason(const SceneContents& contents) const {
+    if (!view_ && !contents.diffuse)
+        return "no surface has a diffuse lobe, so the solution would be zero";
+    return "";
+}
 
 void RadiosityPass::prepare(PassContext& context) {
     scene_ = &context.scene;
@@ -145,45 +202,31 @@ PassStats RadiosityPass::stats() const {
 
 PassStats RadiosityPass::parameters() const {
     // Before prepare() (penumbra plan) the sizes that depend on the scene are not resolved yet.
-    const auto size = [this](float value) {
-        return value > 0.0f || scene_ ? formatStat(value) : std::string("auto");
-    };
-    PassStats stats;
+    ParameterPrinter print;
     if (const auto* h = std::get_if<RadiositySettings>(&settings_)) {
-        const MeshingSettings meshing =
-            scene_ ? h->meshing(*scene_) : MeshingSettings{h->patchEdgeLength, h->minElementArea};
-        stats = {{"solver", h->solver},
-                 {"caustics", caustics_ == Caustics::Exclude ? "exclude"
-                              : takesCaustics_
-                                  ? "auto (the photons of the caustic pass before, if it runs)"
-                                  : "auto (no caustic map before)"},
-                 {"epsilon", formatStat(h->epsilon)},
-                 {"patch_edge_length", size(meshing.patchEdgeLength)},
-                 {"min_element_area", size(meshing.minElementArea)},
-                 {"convergence", formatStat(h->convergence)},
-                 {"visibility_samples", std::to_string(h->visibilitySamples)},
-                 {"max_iterations", std::to_string(h->maxIterations)},
-                 {"max_refinements", std::to_string(h->maxRefinements)},
-                 {"iteration",
-                  h->iteration == RadiositySettings::Iteration::Jacobi ? "jacobi" : "gauss-seidel"},
-                 {"cluster_min_patches", std::to_string(h->clusterMinPatches)},
-                 {"subdivision_threshold", formatStat(h->subdivisionThreshold)},
-                 {"final_gather", h->finalGatherRays == RadiositySettings::kAutoFinalGather
-                                      ? "auto"
-                                      : std::to_string(h->finalGatherRays)}};
-    } else {
-        const auto& p = std::get<ProgressiveSettings>(settings_);
-        stats = {{"solver", "progressive"},
-                 {"patch_edge_length",
-                  size(scene_ ? p.meshing(*scene_).patchEdgeLength : p.patchEdgeLength)},
-                 {"element_area", formatStat(p.elementArea)},
-                 {"threshold", formatStat(p.threshold)},
-                 {"max_shots", std::to_string(p.maxShots)},
-                 {"visibility_samples", std::to_string(p.visibilitySamples)},
-                 {"adaptive_visibility", p.adaptiveVisibility ? "true" : "false"},
-                 {"ambient", p.ambient ? "true" : "false"}};
+        RadiositySettings shown = *h;
+        if (scene_) {
+            const MeshingSettings meshing = h->meshing(*scene_);
+            shown.patchEdgeLength = meshing.patchEdgeLength;
+            shown.minElementArea = meshing.minElementArea;
+        }
+        print("solver", shown.solver);
+        print.choice("caustics", caustics_, kCausticsModes);
+        hierarchicalKeys(shown, print);
+        PassStats stats = print.stats();
+        if (caustics_ == Caustics::Auto) {
+            stats[1].second += takesCaustics_
+                                   ? " (the photons of the caustic pass before, if it runs)"
+                                   : " (no caustic map before)";
+        }
+        return stats;
     }
-    return stats;
+    ProgressiveSettings shown = std::get<ProgressiveSettings>(settings_);
+    if (scene_)
+        shown.patchEdgeLength = shown.meshing(*scene_).patchEdgeLength;
+    print("solver", std::string("progressive"));
+    progressiveKeys(shown, print);
+    return print.stats();
 }
 
 }  // namespace penumbra

@@ -20,6 +20,7 @@
 
 #include "core/progress.h"
 #include "passes/pass.h"
+#include "passes/pass_parameters.h"
 #include "passes/products.h"
 #include "radiosity/progressive_solver.h"
 #include "radiosity/radiosity_mesh.h"
@@ -42,6 +43,10 @@ class RadiosityPass : public Pass {
     explicit RadiosityPass(RadiositySettings settings, Caustics caustics = Caustics::Auto);
     explicit RadiosityPass(ProgressiveSettings settings);
     ~RadiosityPass() override;
+    // The pass of a script's [[pass]] table of type "radiosity": `solver` picks the method and so
+    // the keys that are valid (those of the other solver are refused as unknown); each set is
+    // checked by its validate function, the same rules as for any other caller.
+    static std::unique_ptr<Pass> fromScript(const ScriptTable& table, const PassOverrides&);
 
     std::string type() const override { return "radiosity"; }
     std::string lightPaths() const override {

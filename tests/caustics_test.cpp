@@ -512,10 +512,6 @@ TEST(CausticSettings, RefusesValuesOutOfRangeNamingTheKey) {
     EXPECT_NE(message(s).find("caustics.max_radius"), std::string::npos) << message(s);
     s.maxRadius = std::nanf("");
     EXPECT_NE(message(s).find("caustics.max_radius"), std::string::npos) << message(s);
-    EXPECT_EQ(parseKernel("gaussian"), CausticKernel::Gaussian);
-    EXPECT_EQ(parseKernel("cone"), CausticKernel::Cone);
-    EXPECT_EQ(parseKernel("epanechnikov"), CausticKernel::Epanechnikov);
-    EXPECT_FALSE(parseKernel("box"));
 }
 
 // Visible points of the measurements at the given points of a surface, seen along -z from above

@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -137,10 +138,10 @@ TEST_F(PassScriptTest, UnknownPassKeyAtTheKeyWithTheValidOnes) {
     const std::string message =
         error(kScene + "[[pass]]\ntype = \"radiosity\"\nepsilon = 0.1\n  epsiln = 0.1\n");
     EXPECT_EQ(firstLine(message),
-              "5:3: pass[0].epsiln: unknown key; valid keys here: type, solver, epsilon, "
+              "5:3: pass[0].epsiln: unknown key; valid keys here: type, solver, caustics, epsilon, "
               "patch_edge_length, min_element_area, convergence, visibility_samples, "
-              "max_iterations, max_refinements, cluster_min_patches, subdivision_threshold, "
-              "final_gather, iteration, caustics");
+              "max_iterations, max_refinements, iteration, cluster_min_patches, "
+              "subdivision_threshold, final_gather");
     // The offending line, then a caret under its column.
     EXPECT_NE(message.find("\n      epsiln = 0.1\n      ^"), std::string::npos) << message;
 }
@@ -308,10 +309,65 @@ TEST_F(PassScriptTest, BadOutputs) {
               "2:20: output: expected a string, got 2");
 }
 
+TEST_F(PassScriptTest, UnknownKernelListsTheKernels) {
+    EXPECT_EQ(firstLine(error(kScene + "[[pass]]\ntype = \"caustics\"\nkernel = \"box\"\n")),
+              "4:10: pass[0].kernel: unknown kernel 'box'; valid: cone, epanechnikov, gaussian");
+}
+
 TEST_F(PassScriptTest, BadDepthIsRefusedEvenWhenTheCommandLineReplacesIt) {
     // The table is read either way: the override does not hide a mistake in the script.
     const PassScript script = loadPassScript(write(kScene + kPath + "max_depth = 99999999\n"));
     EXPECT_THROW(makeScriptPipeline(script, PassOverrides{.maxDepth = 3}), ScriptError);
+}
+
+// Every key a pass prints (the plan, the image's metadata) is one its script reads, under the
+// same name and with a value that reads back as itself: a script written from a pass's printed
+// parameters makes a pass that prints the same ones. Each type is tried with its defaults and
+// with values set, in each of its variants.
+TEST_F(PassScriptTest, PrintedParametersReadBackAsThemselves) {
+    const auto lastPassParameters = [&](const std::string& passes) {
+        const Pipeline pipeline = makeScriptPipeline(loadPassScript(write(kScene + passes)));
+        return pipeline.passes().back()->parameters();
+    };
+    // A printed value as TOML: numbers and booleans as they are, words quoted; the radiosity
+    // pass's explanation of its caustics key (in brackets) is not part of the value.
+    const auto asToml = [](std::string value) {
+        value = value.substr(0, value.find(" ("));
+        if (value == "true" || value == "false")
+            return value;
+        char* end = nullptr;
+        std::strtod(value.c_str(), &end);
+        return *end == '\0' && !value.empty() ? value : "\"" + value + "\"";
+    };
+    const std::string solution = "[[pass]]\ntype = \"radiosity\"\n";
+    const std::vector<std::pair<std::string, std::string>> cases = {
+        {"", "type = \"radiosity\"\n"},
+        {"",
+         "type = \"radiosity\"\nepsilon = 0.02\nfinal_gather = 64\niteration = \"jacobi\"\n"
+         "patch_edge_length = 0.5\ncaustics = \"exclude\"\n"},
+        {"", "type = \"radiosity\"\nsolver = \"progressive\"\nthreshold = 0.01\nambient = false\n"},
+        {"", "type = \"path\"\n"},
+        {solution, "type = \"path\"\nmax_depth = 7\nradiosity = true\ncaustics = \"include\"\n"},
+        {solution, "type = \"distribution\"\nmax_specular_depth = 3\n"},
+        {"", "type = \"whitted\"\nambient = 0.25\n"},
+        {solution, "type = \"whitted\"\nambient = \"radiosity\"\n"},
+        {"", "type = \"caustics\"\n"},
+        {"",
+         "type = \"caustics\"\nphotons = 5000\nk = 20\nmax_radius = 0.1\n"
+         "kernel = \"gaussian\"\nseed = 9\nview_spp = 4\n"},
+        {"", "type = \"caustics\"\nmethod = \"progressive\"\niterations = 3\nalpha = 0.5\n"},
+        {"", "type = \"composite\"\n"},
+    };
+    for (const auto& [before, pass] : cases) {
+        const PassStats printed = lastPassParameters(before + "[[pass]]\n" + pass);
+        // The type line, then what the pass printed.
+        std::string written = before + "[[pass]]\n" + pass.substr(0, pass.find('\n') + 1);
+        for (const auto& [key, value] : printed)
+            written += key + " = " + asToml(value) + "\n";
+        PassStats reprinted;
+        EXPECT_NO_THROW(reprinted = lastPassParameters(written)) << written;
+        EXPECT_EQ(reprinted, printed) << written;
+    }
 }
 
 }  // namespace
