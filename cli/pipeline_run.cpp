@@ -15,29 +15,13 @@ PipelineRun runPipeline(Pipeline& pipeline, const Scene& scene, const SceneConte
                         const std::function<bool()>& stop) {
     const int threads = settings.threads > 0 ? settings.threads : tbb::info::default_concurrency();
     tbb::global_control parallelism(tbb::global_control::max_allowed_parallelism, threads);
-    // The passes read the settings through the context at every step (passes/pass.h); lowering this
-    // copy's spp target to one sample is how a pass is told to finish at its next step.
-    RenderSettings live = settings;
-    PassContext context(scene, contents, camera, live);
+    PassContext context(scene, contents, camera, settings);
     PipelineRun result;
     const auto start = std::chrono::steady_clock::now();
-    const auto abandon = [&] {
-        result.stopped = true;
-        result.seconds = secondsSince(start);
-        return result;
-    };
-    const bool finished = pipeline.run(context, [&](double stepSeconds) {
-        if (stop && stop())
-            return false;
-        // Whole sample passes, as PathPass::run: finish before a step that would end past the
-        // limit, assuming it takes as long as the last one.
-        if (live.timeLimit > 0.0 && secondsSince(start) + stepSeconds > live.timeLimit)
-            live.spp = 1;
-        return true;
-    });
-    if (!finished)
-        return abandon();
+    result.stopped = !pipeline.run(context, stop);
     result.seconds = secondsSince(start);
+    if (result.stopped)
+        return result;
     result.layers = std::move(context.layers);
     result.contributions = std::move(context.contributions);
     return result;

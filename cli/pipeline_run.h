@@ -28,12 +28,9 @@ struct PipelineRun {
 // `contents`, the one the pipeline was planned with) seen by `camera` with
 // `settings` (width and height resolved), on settings.threads worker threads (0: all cores).
 //
-// settings.timeLimit (seconds, 0 = none) holds the pipeline as a whole, from the first prepare:
-// a pass still sampling when the next sample pass would end past the limit is asked to finish at
-// its next step (a pass that does not watch the limit itself, like the radiosity view, thus
-// overruns by one sample pass at most; a pass's prepare, such as the radiosity solve, cannot be
-// cut short). `stop`, when given, is asked after every step; if it answers true the run is
-// abandoned: stopped = true and no layers.
+// settings.timeLimit (seconds, 0 = none) holds the pipeline as a whole, as Pipeline::run says.
+// `stop`, when given, is asked after every step; if it answers true the run is abandoned:
+// stopped = true and no layers.
 PipelineRun runPipeline(Pipeline& pipeline, const Scene& scene, const SceneContents& contents,
                         const Camera& camera, const RenderSettings& settings,
                         const std::function<bool()>& stop = {});

@@ -31,6 +31,7 @@ class Progress {
     void finish();
 
     uint64_t done() const { return done_.load(std::memory_order_relaxed); }
+    uint64_t total() const { return total_; }
 
   private:
     using Clock = std::chrono::steady_clock;

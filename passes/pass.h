@@ -2,9 +2,9 @@
 //
 // Lifecycle (after Tungsten's integrators and RenderPark's radiosity methods): prepare() once,
 // then run() until it reports that the pass is finished (a progressive pass returns after each
-// step, so a pipeline can stop it at a time limit), then stats(). Passes communicate only through
-// read-only products registered in the PassContext (image layers, the radiosity solution, the
-// caustic photon map), never through global mutable state.
+// step, so that the pipeline can stop it at its time limit with stopEarly()), then stats(). Passes
+// communicate only through read-only products registered in the PassContext (image layers, the
+// radiosity solution, the caustic photon map), never through global mutable state.
 //
 // Every pass declares the light transport its product contains, in Heckbert's notation for light
 // paths (Heckbert 1990, "Adaptive Radiosity Textures for Bidirectional Ray Tracing"): L a light,
@@ -20,8 +20,10 @@
 #include "core/stats.h"
 
 #include <any>
+#include <chrono>
 #include <map>
 #include <memory>
+#include <optional>
 #include <set>
 #include <string>
 #include <utility>
@@ -39,6 +41,11 @@ class PassContext {
     const SceneContents contents;  // the scene's analysis, done once (core/scene_contents.h)
     const Camera& camera;
     const RenderSettings& settings;
+
+    // When the pipeline's time limit ends (RenderSettings::timeLimit from the start of the first
+    // pass), set by Pipeline::run; absent without a limit. Passes that sample until it is spent
+    // measure their progress against it; the pipeline stops them (Pass::stopEarly).
+    std::optional<std::chrono::steady_clock::time_point> deadline;
 
     // Image layers produced so far, by name: each image-forming pass's contribution (under the
     // pass's type, e.g. "path"), "beauty" (their sum, made by the composite) and AOVs such as
@@ -126,8 +133,14 @@ class Pass {
     virtual std::string skipReason(const SceneContents&) const { return ""; }
 
     virtual void prepare(PassContext& context) = 0;
-    // Advances the pass; returns true when it has finished.
+    // Advances the pass by one step; returns true when it has finished (its image and products
+    // published).
     virtual bool run(PassContext& context) = 0;
+    // Asked between steps when the pipeline's time limit would pass before the next step ends: a
+    // pass that refines its image step by step publishes what its steps made so far and returns
+    // true (finished); one whose work cannot be cut short, or whose fixed amount the passes after
+    // it rely on, returns false and goes on.
+    virtual bool stopEarly(PassContext&) { return false; }
     virtual PassStats stats() const = 0;
 };
 

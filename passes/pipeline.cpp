@@ -1,25 +1,36 @@
 #include "passes/pipeline.h"
 
-#include "core/stats.h"
 #include "passes/composite.h"
 
 #include <chrono>
 
 namespace penumbra {
 
-bool Pipeline::run(PassContext& context, const StepHook& hook) {
+bool Pipeline::run(PassContext& context, const std::function<bool()>& abandon) {
+    using Clock = std::chrono::steady_clock;
+    const double limit = context.settings.timeLimit;
+    if (limit > 0.0) {
+        context.deadline = Clock::now() + std::chrono::duration_cast<Clock::duration>(
+                                              std::chrono::duration<double>(limit));
+    }
     for (size_t i = 0; i < passes_.size(); ++i) {
         if (skipped_[i])
             continue;
-        if (hook && !hook(0.0))
+        if (abandon && abandon())
             return false;
-        passes_[i]->prepare(context);
+        Pass& pass = *passes_[i];
+        pass.prepare(context);
         for (;;) {
-            const auto stepStart = std::chrono::steady_clock::now();
-            if (passes_[i]->run(context))
+            const Clock::time_point stepStart = Clock::now();
+            if (pass.run(context))
                 break;
-            if (hook && !hook(secondsSince(stepStart)))
+            if (abandon && abandon())
                 return false;
+            const Clock::time_point now = Clock::now();
+            if (context.deadline && now + (now - stepStart) > *context.deadline &&
+                pass.stopEarly(context)) {
+                break;
+            }
         }
     }
     if (context.layers.count("beauty") == 0)

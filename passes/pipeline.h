@@ -27,14 +27,18 @@ class Pipeline {
     void skip(size_t index) { skipped_.at(index) = true; }
     bool skipped(size_t index) const { return skipped_.at(index); }
 
-    // Asked before every pass's prepare() (with 0) and after every step of a pass that has not
-    // finished (with the step's seconds); returning false abandons the run.
-    using StepHook = std::function<bool(double stepSeconds)>;
-
     // Prepares and runs every pass that is not skipped, in order, each until it reports it has
     // finished; then composites (passes/composite.h) unless a composite pass already did.
-    // Returns false when the hook abandoned the run (the layers are then incomplete).
-    bool run(PassContext& context, const StepHook& hook = {});
+    //
+    // context.settings.timeLimit (seconds, 0 = none) holds the pipeline as a whole, from the
+    // first prepare: when a pass's next step would end past it, assuming it takes as long as the
+    // last one, the pass is asked to stop early (Pass::stopEarly), so images stop at whole steps.
+    // A pass's prepare (such as the radiosity solve) cannot be cut short, and every pass takes at
+    // least one step.
+    //
+    // `abandon`, when given, is asked before every pass and after every step; if it answers
+    // true, the run ends at once and returns false (the layers are then incomplete).
+    bool run(PassContext& context, const std::function<bool()>& abandon = {});
 
   private:
     std::string name_;

@@ -3,7 +3,6 @@
 #include "caustics/caustic_map.h"
 #include "core/material.h"
 #include "core/stats.h"
-#include "passes/sampling_pass.h"
 #include "radiosity/meshed_hit.h"
 #include "radiosity/solve_progress.h"
 #include "raytrace/tracing_steps.h"
@@ -137,16 +136,14 @@ void RadiosityPass::prepare(PassContext& context) {
     context.publish<RadiositySolution>(
         products::kRadiositySolution,
         std::shared_ptr<const RadiositySolution>(mesh_, solution_.get()));
-    if (!view_)
-        return;
-    renderer_ = std::make_unique<ImageRenderer>(
-        context.camera, context.settings,
-        [this](const Ray& ray, Sampler&, FirstHit* firstHit, PathCounters& counters) {
-            return Li(ray, firstHit, counters);
-        });
-    progress_ = std::make_unique<Progress>(
-        "radiosity view", static_cast<uint64_t>(context.settings.spp), context.settings.quiet);
-    renderStart_ = std::chrono::steady_clock::now();
+    if (view_)
+        SamplingPass::prepare(context);
+}
+
+RadianceEstimator RadiosityPass::makeEstimator(PassContext&) {
+    return [this](const Ray& ray, Sampler&, FirstHit* firstHit, PathCounters& counters) {
+        return Li(ray, firstHit, counters);
+    };
 }
 
 PathRadiance RadiosityPass::Li(Ray ray, FirstHit* firstHit, PathCounters& counters) const {
@@ -174,29 +171,17 @@ PathRadiance RadiosityPass::Li(Ray ray, FirstHit* firstHit, PathCounters& counte
 }
 
 bool RadiosityPass::run(PassContext& context) {
-    if (!view_)
-        return true;
-    renderer_->renderSamplePass();
-    progress_->advance(1);
-    renderSeconds_ = secondsSince(renderStart_);
-    if (renderer_->samplesDone() < context.settings.spp)
-        return false;
-    progress_->finish();
-    publishRenderedImage(context, *renderer_, type());
-    return true;
+    return !view_ || SamplingPass::run(context);
 }
 
 PassStats RadiosityPass::stats() const {
-    // The resolved settings first, so that every image says how it was made (STYLE.md).
     PassStats stats = parameters();
     for (const auto& entry : solution_->stats())
         stats.push_back(entry);
     if (!view_)
         return stats;
-    stats.push_back({"spp", std::to_string(renderer_->samplesDone())});
-    stats.push_back({"render_seconds", formatStat(renderSeconds_)});
-    stats.push_back({"render_rays", std::to_string(renderer_->rays())});
-    stats.push_back({"dropped_samples", std::to_string(renderer_->droppedSamples())});
+    for (const auto& [key, value] : samplingFigures())
+        stats.push_back({key == "spp" ? key : "view " + key, value});
     return stats;
 }
 

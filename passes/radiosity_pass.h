@@ -18,22 +18,20 @@
 // know what it holds. The progressive solver takes no photons.
 #pragma once
 
-#include "core/progress.h"
 #include "passes/pass.h"
 #include "passes/pass_parameters.h"
 #include "passes/products.h"
+#include "passes/sampling_pass.h"
 #include "radiosity/progressive_solver.h"
 #include "radiosity/radiosity_mesh.h"
 #include "radiosity/radiosity_solver.h"
-#include "raytrace/image_renderer.h"
 
-#include <chrono>
 #include <memory>
 #include <variant>
 
 namespace penumbra {
 
-class RadiosityPass : public Pass {
+class RadiosityPass : public SamplingPass {
   public:
     // Whether the solution takes the photons of a caustic map made before the pass: Auto takes
     // them when there is one (hierarchical solver only).
@@ -58,18 +56,24 @@ class RadiosityPass : public Pass {
     // A solution that only later passes reuse is zero without a diffuse surface: skipped then.
     std::string skipReason(const SceneContents& contents) const override;
     PassStats parameters() const override;
-    // Meshes the scene and solves (the long part); the image is formed by run().
+    // Meshes the scene and solves (the long part); the view, if the pass shows one, is formed by
+    // run() like any sampling pass's image.
     void prepare(PassContext& context) override;
-    // Renders one sample per pixel; finished after RenderSettings::spp of them.
+    // Finished at once when the pass forms no image; else SamplingPass::run().
     bool run(PassContext& context) override;
-    // The solver's figures (patches, elements, links, iterations, residual, seconds per stage),
-    // then those of the image.
+    // The resolved parameters, the solver's figures (patches, elements, links, iterations,
+    // residual, seconds per stage), then those of the view (SamplingPass::samplingFigures(),
+    // all but spp named "view ...", as the solver has its own seconds and rays).
     PassStats stats() const override;
 
     // Radiance (cd/m²) arriving along -ray.d at the ray's origin from the first opaque surface
     // the mesh holds: thin glass and alpha cut-outs in front of it are passed through with their
     // straight transmittance (Scene::straightTransmittance); zero when the ray leaves the scene.
     PathRadiance Li(Ray ray, FirstHit* firstHit, PathCounters& counters) const;
+
+  protected:
+    RadianceEstimator makeEstimator(PassContext& context) override;
+    std::string activity() const override { return "radiosity view"; }
 
   private:
     std::variant<RadiositySettings, ProgressiveSettings> settings_;
@@ -79,10 +83,6 @@ class RadiosityPass : public Pass {
     const Scene* scene_ = nullptr;
     std::shared_ptr<RadiosityMesh> mesh_;
     std::shared_ptr<RadiositySolution> solution_;
-    std::unique_ptr<ImageRenderer> renderer_;
-    std::unique_ptr<Progress> progress_;
-    std::chrono::steady_clock::time_point renderStart_;
-    double renderSeconds_ = 0.0;
 };
 
 }  // namespace penumbra

@@ -22,56 +22,62 @@ void publishRenderedImage(PassContext& context, const ImageRenderer& renderer,
 void SamplingPass::prepare(PassContext& context) {
     renderer_ =
         std::make_unique<ImageRenderer>(context.camera, context.settings, makeEstimator(context));
-    const RenderSettings& s = context.settings;
-    // With a time limit the bar measures time (in milliseconds), else samples.
-    const bool timed = s.timeLimit > 0.0 && usesTimeLimit();
-    const uint64_t total = timed ? static_cast<uint64_t>(s.timeLimit * 1000.0)
-                                 : static_cast<uint64_t>(sampleTarget(s));
-    progress_ = std::make_unique<Progress>(activity(), total, s.quiet);
     start_ = std::chrono::steady_clock::now();
+    // With a time limit the bar measures the time left (in milliseconds), else samples.
+    timed_ = context.deadline && usesTimeLimit();
+    const double secondsLeft =
+        timed_ ? std::max(std::chrono::duration<double>(*context.deadline - start_).count(), 0.0)
+               : 0.0;
+    const uint64_t total = timed_ ? static_cast<uint64_t>(secondsLeft * 1000.0)
+                                  : static_cast<uint64_t>(sampleTarget(context.settings));
+    progress_ = std::make_unique<Progress>(activity(), total, context.settings.quiet);
 }
 
 bool SamplingPass::run(PassContext& context) {
-    const RenderSettings& s = context.settings;
-    const auto passStart = std::chrono::steady_clock::now();
     renderer_->renderSamplePass();
-    lastPassSeconds_ = secondsSince(passStart);
     seconds_ = secondsSince(start_);
-
-    bool done = renderer_->samplesDone() >= sampleTarget(s) || renderer_->converged();
-    if (s.timeLimit > 0.0 && usesTimeLimit()) {
-        // Stop at whole passes: before a pass that would end past the limit.
-        done = done || seconds_ + lastPassSeconds_ > s.timeLimit;
-        progress_->advance(static_cast<uint64_t>(std::min(seconds_, s.timeLimit) * 1000.0) -
-                           progress_->done());
+    if (timed_) {
+        const uint64_t elapsed = static_cast<uint64_t>(seconds_ * 1000.0);
+        progress_->advance(std::min(elapsed, progress_->total()) - progress_->done());
     } else {
         progress_->advance(1);
     }
-    if (!done)
+    if (renderer_->samplesDone() < sampleTarget(context.settings) && !renderer_->converged())
         return false;
-    progress_->finish();
-    publishRenderedImage(context, *renderer_, type());
+    publish(context);
     return true;
 }
 
+bool SamplingPass::stopEarly(PassContext& context) {
+    if (!usesTimeLimit())
+        return false;
+    publish(context);
+    return true;
+}
+
+void SamplingPass::publish(PassContext& context) {
+    progress_->finish();
+    publishRenderedImage(context, *renderer_, type());
+}
+
 PassStats SamplingPass::stats() const {
-    const double seconds = seconds_ > 0.0 ? seconds_ : 1e-9;
-    std::ostringstream raysPerSecond;
-    raysPerSecond.precision(4);
-    raysPerSecond << static_cast<double>(renderer_->rays()) / seconds;
     PassStats stats = parameters();
-    const double pixels = static_cast<double>(renderer_->film().width()) *
-                          static_cast<double>(renderer_->film().height());
-    const PassStats figures = {
-        {"spp", std::to_string(renderer_->samplesDone())},
-        {"mean_spp",
-         formatStat(static_cast<double>(renderer_->samplesTaken()) / std::max(pixels, 1.0))},
-        {"seconds", std::to_string(seconds_)},
-        {"rays", std::to_string(renderer_->rays())},
-        {"rays_per_second", raysPerSecond.str()},
-        {"dropped_samples", std::to_string(renderer_->droppedSamples())}};
+    const PassStats figures = samplingFigures();
     stats.insert(stats.end(), figures.begin(), figures.end());
     return stats;
+}
+
+PassStats SamplingPass::samplingFigures() const {
+    const double seconds = seconds_ > 0.0 ? seconds_ : 1e-9;
+    const double pixels = static_cast<double>(renderer_->film().width()) *
+                          static_cast<double>(renderer_->film().height());
+    return {{"spp", std::to_string(renderer_->samplesDone())},
+            {"mean_spp",
+             formatStat(static_cast<double>(renderer_->samplesTaken()) / std::max(pixels, 1.0))},
+            {"seconds", std::to_string(seconds_)},
+            {"rays", std::to_string(renderer_->rays())},
+            {"rays_per_second", formatStat(static_cast<double>(renderer_->rays()) / seconds)},
+            {"dropped_samples", std::to_string(renderer_->droppedSamples())}};
 }
 
 }  // namespace penumbra

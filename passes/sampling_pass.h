@@ -1,7 +1,9 @@
 // What every pass that forms its image by sampling camera rays shares (path tracing, distribution
-// ray tracing, the caustic pass's view): an ImageRenderer over the pass's radiance estimator,
-// one sample per pixel per run() step until RenderSettings::spp or the time limit, a progress bar,
-// the contribution published under the pass's type with the AOVs, and the figures of the image.
+// ray tracing, the caustic pass's view, the radiosity view): an ImageRenderer over the pass's
+// radiance estimator, one sample per pixel per run() step until RenderSettings::spp or the
+// pipeline's time limit (Pipeline::run asks stopEarly()), a progress bar (of samples, or of the
+// time left when there is a limit), the contribution published under the pass's type with the
+// AOVs, and the figures of the image.
 #pragma once
 
 #include "core/progress.h"
@@ -22,29 +24,35 @@ class SamplingPass : public Pass {
   public:
     // Makes the estimator (makeEstimator()) and the renderer.
     void prepare(PassContext& context) override;
-    // Renders one sample per pixel; finished after RenderSettings::spp of them or before a
-    // sample pass that would end past the time limit. Then publishes the image.
+    // Renders one sample per pixel; finished after sampleTarget() of them, or when adaptive
+    // sampling has stopped every pixel. Then publishes the image.
     bool run(PassContext& context) override;
-    // parameters(), then spp, seconds, rays, rays_per_second, dropped_samples.
+    // Publishes the image of the samples taken so far, if the pass usesTimeLimit().
+    bool stopEarly(PassContext& context) override;
+    // parameters(), then samplingFigures().
     PassStats stats() const override;
 
   protected:
+    // spp, mean_spp, seconds, rays, rays_per_second, dropped_samples.
+    PassStats samplingFigures() const;
     // The estimator of one camera ray's radiance, built once the pipeline's products exist. The
     // objects it refers to must live as long as the pass.
     virtual RadianceEstimator makeEstimator(PassContext& context) = 0;
     // The label of the progress bar, e.g. "path tracing".
     virtual std::string activity() const = 0;
-    // The samples per pixel to take, and whether the pass spends the time limit on more: a pass
-    // whose image converges in few samples (the caustic map's view) takes a fixed number and
-    // leaves the time to the passes after it.
+    // The samples per pixel to take, and whether the pipeline's time limit stops the pass: a
+    // pass whose image converges in few samples (the caustic map's view) takes a fixed number
+    // and leaves the time to the passes after it.
     virtual int sampleTarget(const RenderSettings& settings) const { return settings.spp; }
     virtual bool usesTimeLimit() const { return true; }
 
   private:
     std::unique_ptr<ImageRenderer> renderer_;
     std::unique_ptr<Progress> progress_;
+    void publish(PassContext& context);
+
     std::chrono::steady_clock::time_point start_;
-    double lastPassSeconds_ = 0.0;
+    bool timed_ = false;  // the progress bar measures milliseconds to the deadline, not samples
     double seconds_ = 0.0;
 };
 
