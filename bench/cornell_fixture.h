@@ -46,7 +46,7 @@ struct CornellFixture {
     std::unique_ptr<Camera> camera;
     // A second acceleration structure over the scene's meshes, built exactly as Scene builds
     // its own (same class, same flags): Scene does not expose its Accel, and Accel is the one
-    // interface to Embree (STYLE.md, "One module per third-party library").
+    // interface to Embree (CONTRIBUTING.md, "Layering").
     std::unique_ptr<Accel> accel;
     RaySet rays;
 };

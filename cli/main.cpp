@@ -1,5 +1,6 @@
 // penumbra: command-line entry point. Exit status 0 on success, 2 on bad input or usage,
-// 1 on an internal failure (DEVELOPERS.md) or a failed `penumbra diff` check.
+// 1 on an internal failure or a failed `penumbra diff` check (CONTRIBUTING.md, "Errors and exit
+// codes").
 #include "cli/commands.h"
 #include "core/errors.h"
 #include "core/version.h"

@@ -1,6 +1,6 @@
 // Exceptions for bad input. They are thrown deep in the libraries and caught at the command
-// line, which prints them and exits with status 2 (DEVELOPERS.md, "Definition of done"). Tests
-// can assert them; nothing in a library calls exit().
+// line, which prints them and exits with status 2 (CONTRIBUTING.md, "Errors and exit codes").
+// Tests can assert them; nothing in a library calls exit().
 #pragma once
 
 #include <stdexcept>

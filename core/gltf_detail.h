@@ -1,5 +1,5 @@
 // Internals of the glTF loader, shared by core/gltf_*.cpp and by nothing else. This is the only
-// header that includes tinygltf (STYLE.md, "One module per third-party library").
+// header that includes tinygltf (CONTRIBUTING.md, "Layering").
 //
 // Section numbers in comments refer to the glTF 2.0 specification (Khronos, version 2.0.1,
 // https://registry.khronos.org/glTF/specs/2.0/glTF-2.0.html); extension rules cite the

@@ -1,4 +1,4 @@
-// The glTF 2.0 loader: the first stage of scene loading (STYLE.md, "Two-stage scene loading").
+// The glTF 2.0 loader: the first stage of scene loading (CONTRIBUTING.md, "Layering").
 #pragma once
 
 #include "core/scene_description.h"

@@ -1,5 +1,5 @@
-// Light sources. Units are photometric (DEVELOPERS.md): radiance in cd/m², intensity in cd,
-// illuminance in lux, flux in lm, each per linear-sRGB channel.
+// Light sources. Units are photometric (CONTRIBUTING.md, "Units"): radiance in cd/m², intensity in
+// cd, illuminance in lux, flux in lm, each per linear-sRGB channel.
 //
 // The interface follows pbrt-v4's Light: sampleLi() draws a direction towards the light from a
 // receiving point, pdfLi() gives the density of that strategy for a direction found by other

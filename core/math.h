@@ -18,7 +18,7 @@ using Mat4 = glm::mat4;
 using IVec2 = glm::ivec2;
 
 // Linear-sRGB triple. For radiance it is in cd/m² per channel, for intensity in cd, for
-// illuminance in lux: penumbra works in photometric units throughout (DEVELOPERS.md).
+// illuminance in lux: penumbra works in photometric units throughout (CONTRIBUTING.md, "Units").
 using Color = glm::vec3;
 
 inline constexpr float kPi = 3.14159265358979323846f;

@@ -1,4 +1,4 @@
-// Reading pass scripts with toml++ (the only file that includes it, STYLE.md §1).
+// Reading pass scripts with toml++ (the only file that includes it: CONTRIBUTING.md, "Layering").
 //
 // Top-level keys of a script (docs/pass-scripts.md has the full table):
 //   key          type                      default            meaning

@@ -8,7 +8,7 @@
 //     type = "radiosity"
 //     epsilon = 0.005
 //
-// Loading is two-stage (STYLE.md §1): loadPassScript() turns the file into a PassScript that
+// Loading is two-stage, like the scene's: loadPassScript() turns the file into a PassScript that
 // remembers where every value came from; the registry (passes/registry.cpp,
 // makeScriptPipeline) then builds the passes from their tables, reading each parameter through
 // ScriptTable's typed getters. Every key no getter asked for is an error at its place.

@@ -135,7 +135,7 @@ void ImageRenderer::renderSamplePass() {
                     const PathRadiance components =
                         estimator_(ray, sampler, wantAovs ? &firstHit : nullptr, counters);
                     const Color L = components.total();
-                    // NaN and Inf never reach the film: dropped and counted (DEVELOPERS.md).
+                    // NaN and Inf never reach the film: dropped and counted (CONTRIBUTING.md).
                     if (!isFinite(L)) {
                         ++dropped;
                         continue;
