@@ -105,14 +105,15 @@ PassStats DistributionPass::stats() const {
 
 RadianceEstimator DistributionPass::makeEstimator(PassContext& context) {
     radiosity_ = context.product<RadiositySolution>(products::kRadiositySolution);
-    const RadiositySolution* indirect = radiosity_.get();
     if (ambient_ == Ambient::RadiosityMean) {
         // Null when the planner skipped the radiosity pass: no diffuse surface to reflect.
         settings_.ambient =
             radiosity_ ? meanReflectedRadiance(context.scene, *radiosity_) : Color(0.0f);
-        indirect = nullptr;
+    } else if (radiosity_) {
+        reusedSolution_.emplace(*radiosity_);
     }
-    tracer_ = std::make_unique<DistributionTracer>(context.scene, settings_, indirect);
+    tracer_ = std::make_unique<DistributionTracer>(context.scene, settings_,
+                                                   reusedSolution_ ? &*reusedSolution_ : nullptr);
     return [tracer = tracer_.get()](const Ray& ray, Sampler& sampler, FirstHit* firstHit,
                                     PathCounters& counters) {
         return tracer->Li(ray, sampler, firstHit, counters);

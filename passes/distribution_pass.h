@@ -9,8 +9,11 @@
 
 #include "passes/pass_parameters.h"
 #include "passes/products.h"
+#include "passes/reused_products.h"
 #include "passes/sampling_pass.h"
 #include "raytrace/distribution_tracer.h"
+
+#include <optional>
 
 namespace penumbra {
 
@@ -58,6 +61,7 @@ class DistributionPass : public SamplingPass {
     Ambient ambient_;
     bool causticsInRadiosity_ = false;  // the solution holds the caustic photons (L S+ D+)
     std::shared_ptr<const RadiositySolution> radiosity_;
+    std::optional<SolutionForTracers> reusedSolution_;  // radiosity_ as the tracer reads it
     std::unique_ptr<DistributionTracer> tracer_;
 };
 

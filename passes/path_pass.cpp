@@ -2,7 +2,6 @@
 
 #include "caustics/caustic_map.h"
 #include "passes/products.h"
-#include "radiosity/radiosity_solution.h"
 
 namespace penumbra {
 
@@ -64,8 +63,13 @@ RadianceEstimator PathPass::makeEstimator(PassContext& context) {
     // The ray from a reuse vertex to the specular surfaces it sees would find none (the
     // planner's analysis, which also skips the caustic pass then).
     settings.specularAtReuse = context.contents.specular;
-    tracer_ =
-        std::make_unique<PathTracer>(context.scene, settings, radiosity_.get(), causticMap_.get());
+    if (radiosity_)
+        reusedSolution_.emplace(*radiosity_);
+    if (causticMap_)
+        reusedCaustics_.emplace(*causticMap_);
+    tracer_ = std::make_unique<PathTracer>(context.scene, settings,
+                                           reusedSolution_ ? &*reusedSolution_ : nullptr,
+                                           reusedCaustics_ ? &*reusedCaustics_ : nullptr);
     return [tracer = tracer_.get()](const Ray& ray, Sampler& sampler, FirstHit* firstHit,
                                     PathCounters& counters) {
         return tracer->Li(ray, sampler, firstHit, counters);

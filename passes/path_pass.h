@@ -10,8 +10,11 @@
 #pragma once
 
 #include "passes/pass_parameters.h"
+#include "passes/reused_products.h"
 #include "passes/sampling_pass.h"
 #include "raytrace/path_tracer.h"
+
+#include <optional>
 
 namespace penumbra {
 
@@ -42,6 +45,8 @@ class PathPass : public SamplingPass {
     Caustics caustics_;
     std::shared_ptr<const RadiositySolution> radiosity_;
     std::shared_ptr<const CausticMap> causticMap_;
+    std::optional<SolutionForTracers> reusedSolution_;  // radiosity_ as the tracer reads it
+    std::optional<CausticsForTracers> reusedCaustics_;
     std::unique_ptr<PathTracer> tracer_;
 };
 

@@ -39,17 +39,7 @@ class RadiositySolution {
     virtual PassStats stats() const = 0;
 };
 
-// The Lambertian layer's share, per channel, of the light a solution reflects at a point of this
-// BSDF: a solver reflects with the whole Bsdf::diffuseGlossyReflectance() (the rough glossy lobes
-// spread as Lambertian), of which the Lambertian layer's part is matteReflectance(). A tracer that
-// follows the glossy lobes itself takes only this share of radiance() or indirectRadiance().
-inline Color matteShare(const Bsdf& bsdf) {
-    const Color rho = bsdf.diffuseGlossyReflectance();
-    const Color matte = bsdf.matteReflectance();
-    Color share(0.0f);
-    for (int c = 0; c < 3; ++c)
-        share[c] = rho[c] > 0.0f ? matte[c] / rho[c] : 0.0f;
-    return share;
-}
+// A tracer that follows the rough glossy lobes itself takes only the Lambertian layer's share of
+// radiance() or indirectRadiance(): matteShare() in raytrace/reused_light.h.
 
 }  // namespace penumbra

@@ -1,7 +1,6 @@
 #include "raytrace/distribution_tracer.h"
 
 #include "core/sampler.h"
-#include "radiosity/radiosity_solution.h"
 #include "raytrace/direct_light.h"
 #include "raytrace/specular_chain.h"
 
@@ -13,7 +12,7 @@ std::string distributionLightPaths(bool causticsInRadiosity) {
 }
 
 DistributionTracer::DistributionTracer(const Scene& scene, const DistributionSettings& settings,
-                                       const RadiositySolution* indirect)
+                                       const ReusedSolution* indirect)
     : scene_(scene), settings_(settings), indirect_(indirect) {}
 
 Color DistributionTracer::glossyIndirect(const SurfaceHit& hit, const Bsdf& bsdf, const Vec3& wo,
@@ -33,8 +32,7 @@ Color DistributionTracer::glossyIndirect(const SurfaceHit& hit, const Bsdf& bsdf
     if (!next)
         return Color(0.0f);
     // Emission is left out: estimateDirectLight's BSDF sample counts it.
-    const Color Lnext = indirect_->radiance(next->mesh, next->triangle, next->barycentric, false,
-                                            glm::dot(-bs->wi, next->ng) > 0.0f);
+    const Color Lnext = indirect_->reflected(*next, glm::dot(-bs->wi, next->ng) > 0.0f);
     return f * Lnext * (std::abs(glm::dot(bs->wi, bsdf.shadingNormal())) / bs->pdf);
 }
 
@@ -50,9 +48,7 @@ PathRadiance DistributionTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHi
                 estimateDirectLight(scene_, hit, bsdf, wo, vertexSampler, vertexCounters);
             if (indirect_) {
                 L[PathComponent::Indirect] +=
-                    matteShare(bsdf) * indirect_->indirectRadiance(hit.mesh, hit.triangle,
-                                                                   hit.barycentric,
-                                                                   glm::dot(wo, hit.ng) > 0.0f);
+                    matteShare(bsdf) * indirect_->indirect(hit, glm::dot(wo, hit.ng) > 0.0f);
                 if (bsdf.lobes() & kLobeGlossy) {
                     L[PathComponent::Indirect] +=
                         glossyIndirect(hit, bsdf, wo, vertexSampler, vertexCounters);

@@ -27,7 +27,6 @@
 
 namespace penumbra {
 
-class RadiositySolution;
 class Sampler;
 
 struct DistributionSettings {
@@ -49,7 +48,7 @@ class DistributionTracer {
     // indirect: the radiosity solution to take the ambient term from; null = no ambient term
     // (a scene the planner found without diffuse surfaces).
     DistributionTracer(const Scene& scene, const DistributionSettings& settings,
-                       const RadiositySolution* indirect);
+                       const ReusedSolution* indirect);
 
     // Radiance (cd/m²) arriving along -ray.d at the ray's origin (contract of PathTracer::Li).
     PathRadiance Li(Ray ray, Sampler& sampler, FirstHit* firstHit, PathCounters& counters) const;
@@ -62,7 +61,7 @@ class DistributionTracer {
 
     const Scene& scene_;
     DistributionSettings settings_;
-    const RadiositySolution* indirect_;
+    const ReusedSolution* indirect_;
 };
 
 }  // namespace penumbra

@@ -1,9 +1,7 @@
 #include "raytrace/path_tracer.h"
 
-#include "caustics/caustic_map.h"
 #include "core/sampler.h"
 #include "core/sampling.h"
-#include "radiosity/radiosity_solution.h"
 #include "raytrace/direct_light.h"
 #include "raytrace/tracing_steps.h"
 
@@ -46,7 +44,7 @@ std::string pathTracerLightPaths(const PathTracerSettings& settings) {
 }
 
 PathTracer::PathTracer(const Scene& scene, const PathTracerSettings& settings,
-                       const RadiositySolution* radiosity, const CausticMap* causticMap)
+                       const ReusedSolution* radiosity, const ReusedCaustics* causticMap)
     : scene_(scene), settings_(settings), radiosity_(radiosity), causticMap_(causticMap) {}
 
 PathRadiance PathTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHit,
@@ -128,8 +126,7 @@ PathRadiance PathTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHit,
         const PathComponent reflectedHere = pathComponent(depth + 1, firstVertexSpecular);
         if (unheld && reuseHere && radiosity_) {
             L[reflectedHere] += betaUnheld * matteShare(bsdf) *
-                                radiosity_->radiance(hit->mesh, hit->triangle, hit->barycentric,
-                                                     false, glm::dot(wo, hit->ng) > 0.0f);
+                                radiosity_->reflected(*hit, glm::dot(wo, hit->ng) > 0.0f);
         }
         if (unheld && reuseHere && settings_.causticsAtReuse && causticMap_) {
             L[reflectedHere] += betaUnheld * causticMap_->radiance(*hit, bsdf, wo,

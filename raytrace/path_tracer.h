@@ -39,14 +39,13 @@
 #include "core/ray.h"
 #include "core/scene.h"
 #include "raytrace/radiance_estimator.h"
+#include "raytrace/reused_light.h"
 
 #include <cstdint>
 #include <string>
 
 namespace penumbra {
 
-class CausticMap;
-class RadiositySolution;
 class Sampler;
 
 struct PathTracerSettings {
@@ -74,13 +73,13 @@ float rouletteTerminationProbability(int depth, const Color& beta);
 
 class PathTracer {
   public:
-    // radiosity: the solution to reuse; required when settings.reuseRadiosity, and then may be
-    // null only when the scene has no diffuse surface (the planner skipped the radiosity pass:
-    // there is nothing to reflect).
-    // causticMap: required when settings.causticsAtReuse.
+    // radiosity: the solution to reuse (raytrace/reused_light.h); required when
+    // settings.reuseRadiosity, and then may be null only when the scene has no diffuse surface
+    // (the planner skipped the radiosity pass: there is nothing to reflect).
+    // causticMap: the caustic estimate; required when settings.causticsAtReuse.
     PathTracer(const Scene& scene, const PathTracerSettings& settings,
-               const RadiositySolution* radiosity = nullptr,
-               const CausticMap* causticMap = nullptr);
+               const ReusedSolution* radiosity = nullptr,
+               const ReusedCaustics* causticMap = nullptr);
 
     // Radiance (cd/m²) arriving along -ray.d at the ray's origin, estimated with one path.
     // The result may be non-finite only through a bug or broken input; callers drop such samples.
@@ -89,8 +88,8 @@ class PathTracer {
   private:
     const Scene& scene_;
     PathTracerSettings settings_;
-    const RadiositySolution* radiosity_;
-    const CausticMap* causticMap_;
+    const ReusedSolution* radiosity_;
+    const ReusedCaustics* causticMap_;
 };
 
 }  // namespace penumbra
