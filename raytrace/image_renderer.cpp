@@ -16,10 +16,6 @@ namespace {
 // Tiles of 16 x 16 pixels balance the load on two to many cores without much scheduling cost.
 constexpr int kTileSize = 16;
 
-}  // namespace
-
-namespace {
-
 // The light-path component an AOV name stands for, or -1.
 int componentIndex(const std::string& name) {
     const auto it = std::find(kPathComponentNames.begin(), kPathComponentNames.end(), name);

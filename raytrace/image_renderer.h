@@ -28,6 +28,7 @@ bool isComponentAov(const std::string& name);
 
 class ImageRenderer {
   public:
+    // The camera and the settings are referred to, not copied: they must outlive the renderer.
     ImageRenderer(const Camera& camera, const RenderSettings& settings,
                   RadianceEstimator estimator);
 
