@@ -180,8 +180,12 @@ PassStats RadiosityPass::stats() const {
         stats.push_back(entry);
     if (!view_)
         return stats;
-    for (const auto& [key, value] : samplingFigures())
-        stats.push_back({key == "spp" ? key : "view " + key, value});
+    // The image's own figures keep their names (every image has them); the view's time and rays
+    // are told from the solver's.
+    for (const auto& [key, value] : samplingFigures()) {
+        const bool ofTheImage = key == "spp" || key == "dropped_samples";
+        stats.push_back({ofTheImage ? key : "view " + key, value});
+    }
     return stats;
 }
 

@@ -63,7 +63,8 @@ class RadiosityPass : public SamplingPass {
     bool run(PassContext& context) override;
     // The resolved parameters, the solver's figures (patches, elements, links, iterations,
     // residual, seconds per stage), then those of the view (SamplingPass::samplingFigures(),
-    // all but spp named "view ...", as the solver has its own seconds and rays).
+    // all but spp and dropped_samples named "view ...", as the solver has its own seconds and
+    // rays).
     PassStats stats() const override;
 
     // Radiance (cd/m²) arriving along -ray.d at the ray's origin from the first opaque surface
