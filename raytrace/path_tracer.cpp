@@ -14,7 +14,7 @@ namespace {
 // reweighted by 1 / (1 - q), which keeps the estimator unbiased. It must stay below 1 - rho^2:
 // where the throughput stays near 1 (albedo rho), the weights grow as (rho / (1 - q))^k while
 // paths survive with (1 - q)^k, so the variance sum of (rho^2 / (1 - q))^k diverges otherwise
-// (0.05 gave a 0.99 furnace infinite variance: 89 +- 22 for 100, tests/stress_test.cpp).
+// (0.05 gave a 0.99 furnace infinite variance: 89 +- 22 for 100, tests/cli/stress_test.cpp).
 constexpr float kMinTerminationProbability = 1e-3f;
 // Roulette starts after this many scattering events (the first bounces carry most variance).
 constexpr int kRouletteStartDepth = 3;

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Generate scenes/glossy/glossy.gltf: the measured Cornell box without its blocks, holding three
 rough gold spheres and two blue plastic spheres of several roughnesses (regression scene of
-tests/regression_test.cpp; README.md beside this file).
+tests/cli/regression_test.cpp; README.md beside this file).
 
 Run from anywhere (Python 3 standard library only; deterministic: same bytes every run):
 

@@ -9,8 +9,8 @@
 #include "core/scene.h"
 #include "raytrace/image_renderer.h"
 #include "raytrace/path_tracer.h"
-#include "tests/gltf_builder.h"
-#include "tests/radiosity_scenes.h"
+#include "tests/support/gltf_builder.h"
+#include "tests/support/radiosity_scenes.h"
 
 #include <gtest/gtest.h>
 

@@ -1,0 +1,92 @@
+// Indirect caustics in the hybrid pipeline: a closed room lit mostly through a mirror. A small area
+// light under the ceiling faces up at a mirror just above it, which catches 86 % of its light and
+// sends it down (L S D: the floor lit by the light's mirror image), so most of the room's light
+// is that caustic and its diffuse bounces (L S D D+). The hybrid's radiosity solution takes the
+// caustic photons (radiosity/deposited_flux.h) and must then agree with the path tracer; with the
+// photons left out of the solution (the radiosity pass's caustics = "exclude"), the light of
+// L S D D D E and longer paths is missing, which the planner names and this test measures.
+#include "core/image_io.h"
+#include "tests/support/cli_runner.h"
+#include "tests/support/gltf_builder.h"
+#include "tests/support/radiosity_scenes.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <string>
+
+namespace penumbra::test {
+namespace {
+
+// A perspective camera at the middle of the front wall, looking at the back wall (-Z).
+void buildMirrorRoom(GltfBuilder& scene) {
+    const int walls = scene.addMaterial({.baseColor = Color(0.75f, 0.7f, 0.6f)});
+    addClosedBox(scene, walls, walls);
+    const int mirror = scene.addMaterial(
+        {.baseColor = Color(0.95f), .lambertian = false, .metallic = 1.0f, .roughness = 0.0f});
+    constexpr float m = 0.3f, y = 0.97f;
+    scene.addQuad({-m, y, -m}, {m, y, -m}, {m, y, m}, {-m, y, m}, mirror);  // faces down
+    const int lamp = scene.addMaterial(
+        {.baseColor = Color(0.0f), .emissive = Color(1.0f), .emissiveStrength = 20.0f});
+    constexpr float s = 0.15f, h = 0.85f;
+    scene.addQuad({-s, h, -s}, {-s, h, s}, {s, h, s}, {s, h, -s}, lamp);  // faces up
+    scene.setPerspectiveCamera({0.0f, -0.2f, 0.99f}, {0.0f, 0.0f, 0.0f, 1.0f}, 1.4f);
+}
+
+class IndirectCaustics : public testing::Test {
+  protected:
+    void SetUp() override {
+        GltfBuilder scene;
+        buildMirrorRoom(scene);
+        scene.write(dir_.file("room.gltf"));
+    }
+
+    Image render(const std::string& input, const std::string& options, CliResult* out) {
+        const CliResult result = runPenumbra("render " + input + " -o " + dir_.file("out.exr") +
+                                             " --width 64 --height 64 --seed 3 " + options);
+        EXPECT_EQ(result.status, 0) << result.output;
+        if (out)
+            *out = result;
+        return readImage(dir_.file("out.exr"));
+    }
+
+    // The hybrid's passes as a script, the radiosity pass's caustics key set to `caustics`.
+    std::string hybridScript(const std::string& caustics) {
+        const std::string path = dir_.file("hybrid-" + caustics + ".toml");
+        std::ofstream(path) << "scene = \"room.gltf\"\n"
+                            << "[[pass]]\ntype = \"caustics\"\n"
+                            << "[[pass]]\ntype = \"radiosity\"\ncaustics = \"" << caustics << "\"\n"
+                            << "[[pass]]\ntype = \"path\"\nradiosity = true\n";
+        return path;
+    }
+
+    TempDir dir_{"indirect-caustics"};
+};
+
+TEST_F(IndirectCaustics, TheSolutionCarriesThePhotonsOn) {
+    const double reference =
+        luminanceMean(render(dir_.file("room.gltf"), "--pipeline reference --spp 1024", nullptr));
+    CliResult hybridRun;
+    const double hybrid =
+        luminanceMean(render(dir_.file("room.gltf"), "--pipeline hybrid --spp 64", &hybridRun));
+    CliResult excludedRun;
+    const double excluded =
+        luminanceMean(render(hybridScript("exclude"), "--spp 64", &excludedRun));
+    std::printf("hybrid / reference %.4f, without photons in the solution %.4f\n",
+                hybrid / reference, excluded / reference);
+    EXPECT_EQ(hybridRun.output.find("L S D D D E"), std::string::npos) << hybridRun.output;
+    EXPECT_NE(excludedRun.output.find("L S D D D E"), std::string::npos) << excludedRun.output;
+    // Measured: hybrid 0.981 (seeds 1 and 7 with this reference: 0.980, 0.977), without the
+    // photons 0.59; two references of other seeds agree within 0.2 %. What the hybrid still
+    // lacks is the solution's own error (the Cornell box's faces within 2.6 %) and the light
+    // that the mirror carries between diffuse surfaces before the second diffuse vertex (L D S
+    // D D D E, named by the planner; with a mirror over the whole ceiling it was 13 %). The
+    // bound is the 3 % for the hybrid's region means.
+    EXPECT_NEAR(hybrid / reference, 1.0, 0.03);
+    EXPECT_LT(excluded / reference, 0.8);
+}
+
+}  // namespace
+}  // namespace penumbra::test
