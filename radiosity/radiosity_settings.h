@@ -1,0 +1,65 @@
+// The settings of the hierarchical radiosity solver (radiosity_solver.h), as the radiosity pass and
+// `penumbra bake` read them, with their defaults and their validation.
+#pragma once
+
+#include "radiosity/radiosity_mesh.h"
+
+#include <string>
+
+namespace penumbra {
+
+class Scene;
+
+// The parameters of the radiosity pass; their table (key, type, default, meaning) is at the top of
+// radiosity_settings.cpp.
+struct RadiositySettings {
+    enum class Iteration { GaussSeidel, Jacobi };
+
+    // Always "hierarchical" here; the radiosity pass also offers "progressive", whose settings
+    // are ProgressiveSettings (progressive_solver.h).
+    std::string solver = "hierarchical";
+    // Refinement threshold: a link is refined while the error it makes in the receiver's radiance
+    // (RadiositySolver's oracle, radiosity_solver.cpp) exceeds epsilon times the scene's mean
+    // radiance or, from the first refinement round on, epsilon times what the receiver itself
+    // reflects in any channel (exceedsThreshold). Dimensionless; smaller is finer and slower.
+    float epsilon = 1e-2f;
+    // Longest patch edge, metres; 0 = the scene's bounding radius (coarse patches: HSA91 links
+    // every pair of patches, so their number enters squared).
+    float patchEdgeLength = 0.0f;
+    // Smallest element area, m²; 0 = the scene's total surface area / 16384.
+    float minElementArea = 0.0f;
+    // Stop when the estimated relative error of the iteration (RadiosityIteration::errorBound) is
+    // below this.
+    double convergence = 1e-4;
+    // Shadow rays per link, between stratified points of the two elements, and direct-light
+    // samples per element; a power of 2 stratifies best.
+    int visibilitySamples = 16;
+    int maxIterations = 5000;  // gather sweeps, over all refinement rounds
+    int maxRefinements = 8;    // refinement rounds after the first solve
+    // Scenes with more patches than this start from clusters of patches (cluster_tree.h) linked
+    // from one self-link of the root instead of from links between every pair of patches; 0 =
+    // always.
+    int clusterMinPatches = 256;
+    // Adaptive subdivision after the solve: a leaf whose reflected radiance differs from a
+    // neighbouring leaf's by more than this fraction of the larger (and by more than the oracle's
+    // absolute threshold) is split, down to the smallest element area, and its links are refined
+    // onto its children; up to 4 passes, each followed by a solve. 0 = off.
+    float subdivisionThreshold = 0.0f;
+    // Final gather after the solve: rays per leaf side, cosine-distributed from stratified points
+    // of it, that gather its indirect light from the solution; each patch side's mean difference
+    // from the links' gather corrects the solution (finalGather in radiosity_solver.cpp). 0 = off;
+    // kAutoFinalGather = kClusterFinalGatherRays when the solver starts from clusters, else off.
+    static constexpr int kAutoFinalGather = -1;
+    static constexpr int kClusterFinalGatherRays = 64;
+    static constexpr int kMaxFinalGatherRays = 65536;
+    int finalGatherRays = kAutoFinalGather;
+    Iteration iteration = Iteration::GaussSeidel;
+
+    // The mesh settings these stand for, with the defaults resolved for `scene`.
+    MeshingSettings meshing(const Scene& scene) const;
+};
+
+// Throws UsageError naming the key ("radiosity.epsilon: expected ...") for a value out of range.
+void validateRadiositySettings(const RadiositySettings& settings);
+
+}  // namespace penumbra
