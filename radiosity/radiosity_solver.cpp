@@ -7,10 +7,12 @@
 #include "core/sampling.h"
 #include "core/scene.h"
 #include "core/stats.h"
+#include "radiosity/element_exposure.h"
 #include "radiosity/element_sampling.h"
 #include "radiosity/form_factor.h"
 #include "radiosity/gather_divergence.h"
 #include "radiosity/meshed_hit.h"
+#include "radiosity/solver_nodes.h"
 
 #include <tbb/combinable.h>
 #include <tbb/parallel_for.h>
@@ -35,9 +37,9 @@ double channelSum(const Color& c) {
     return static_cast<double>(c.r) + c.g + c.b;
 }
 
-// Seeds of the samplers, so that visibility and direct-light samples never share a sequence.
+// Seeds of the samplers, so that visibility, final-gather and direct-light samples
+// (ElementExposure::kPointSeed) never share a sequence.
 constexpr uint32_t kVisibilitySeed = 0x9e3779b9u;
-constexpr uint32_t kDirectSeed = 0x85ebca6bu;
 constexpr uint32_t kFinalGatherSeed = 0xc2b2ae35u;
 constexpr uint32_t kCoverOffsetSeed = 0x27d4eb2fu;
 
@@ -67,27 +69,6 @@ constexpr int kFirstVisibilityRays = 4;
 // that do not face each other and those whose cluster side does not take part.
 constexpr int kDrawsPerRay = 4;
 
-// Points per element whose exposed fraction is sampled (computeExposure): at least this many, and
-// at least one per smallest element's area, at most kMaxExposureSamples.
-constexpr int kExposureSamples = 16;
-constexpr int kMaxExposureSamples = 4096;
-
-// Points a partly covered element keeps at least (computeExposure), from which its links draw
-// their shadow rays' ends (visibility), 16 per link by default. Every link of a receiver draws
-// from the same points, so their quadrature error does not average out over its links as fresh
-// points' did: against the dense solve of HierarchicalRadiosity.AgreesWithFullMatrixSolve
-// (tests/radiosity_test.cpp), whose ceiling leaves beside its lamp are a strip's worth exposed,
-// the worst lit patch side differed by 1.00 % with 64, 1.02 % with 128 and 0.85 % with 256 (0.73
-// % with fresh points), the worst leaf side by 0.12, 0.10 and 0.087 of the mean (0.074).
-// At most kMaxExposureSamples rounded up to a power of two.
-constexpr int kCoverSamples = 256;
-static_assert(std::bit_ceil(static_cast<uint32_t>(kMaxExposureSamples)) <=
-              CoverSamples::kMaxPoints);
-
-// A gap narrower than this fraction of the smallest element's edge (the square root of its area)
-// covers the surface behind it (isCovered, element_sampling.h).
-constexpr float kCoveringGap = 0.1f;
-
 // Centroid distance, in longest edges of the pair, from which a link's form factor is the
 // seven-point rule over the oracle's samples (formFactor).
 constexpr float kFarLink = 4.0f;
@@ -110,7 +91,10 @@ constexpr float kClusterMinRadius = 2.0f;
 RadiositySolver::RadiositySolver(const Scene& scene, RadiosityMesh& mesh,
                                  const RadiositySettings& settings,
                                  const std::vector<FluxDeposit>& deposits)
-    : scene_(scene), mesh_(mesh), settings_(settings), sealed_(scene), coincident_(mesh) {
+    : scene_(scene),
+      mesh_(mesh),
+      settings_(settings),
+      exposure_(std::make_unique<ElementExposure>(scene, mesh)) {
     validateRadiositySettings(settings_);
     if (!deposits.empty())
         deposits_ = std::make_unique<DepositedFlux>(mesh_, deposits);
@@ -140,143 +124,33 @@ void RadiositySolver::resizeArrays() {
     Hchild_.resize(nodes, {Color(0.0f), Color(0.0f), Color(0.0f), Color(0.0f)});
     D_.resize(nodes, Color(0.0f));
     Dspread_.resize(nodes, 0.0f);
-    exposure_.resize(nodes, 1.0f);
+    exposure_->resize();
     links_.resize(nodes);
-}
-
-// The exposed fractions, by level so that a parent's is known before its children's (0 for a side
-// facing a sealed interior, sealed_interiors.h): an element side whose parent's side is wholly
-// exposed or wholly covered is so too (its parent's points,
-// at least one per smallest element, found no boundary of a covering object there); the others
-// are sampled (coverSamples, with the points of the direct light, computeDirect, so that the
-// covered points are the same). An element with a partly covered side keeps its points
-// (coverSamples_), at least kCoverSamples of them. Then every parent's fraction becomes its
-// children's mean, so that the children's exposed areas add up to their parent's and the push and
-// pull keep the energy; a parent that becomes partly covered so gets points too.
-void RadiositySolver::computeExposure(const std::vector<int>& elements) {
-    std::vector<int> sorted = elements;
-    std::stable_sort(sorted.begin(), sorted.end(),
-                     [&](int a, int b) { return mesh_.level(a) < mesh_.level(b); });
-    tbb::combinable<uint64_t> rays([] { return uint64_t(0); });
-    const auto samplesOf = [&](int e) {
-        return static_cast<int>(std::clamp(std::ceil(mesh_.area(e) / mesh_.minElementArea(e)),
-                                           static_cast<float>(kExposureSamples),
-                                           static_cast<float>(kMaxExposureSamples)));
-    };
-    // A power of two, so that its aligned runs of 2^k points are stratified (visibility).
-    const auto keptSamples = [&](int e, uint64_t& count) {
-        const auto n = std::bit_ceil(static_cast<uint32_t>(std::max(samplesOf(e), kCoverSamples)));
-        return coverSamples(scene_, mesh_, e, static_cast<int>(n), coveringGap(e), kDirectSeed,
-                            coincident_, count);
-    };
-    std::vector<std::optional<CoverSamples>> kept;
-    for (size_t begin = 0; begin < sorted.size();) {
-        size_t end = begin;
-        while (end < sorted.size() && mesh_.level(sorted[end]) == mesh_.level(sorted[begin]))
-            ++end;
-        kept.assign(end - begin, std::nullopt);
-        tbb::parallel_for(begin, end, [&](size_t i) {
-            const int e = sorted[i];
-            const int parent = mesh_.parent(e);
-            const auto settled = [&](bool side) {
-                if (parent < 0)
-                    return false;
-                const float a = exposure_[node(parent, side)];
-                return a == 0.0f || a == 1.0f;
-            };
-            if (settled(true) && settled(false)) {
-                for (const bool side : {true, false})
-                    exposure_[node(e, side)] = exposure_[node(parent, side)];
-                return;
-            }
-            CoverSamples c = coverSamples(scene_, mesh_, e, samplesOf(e), coveringGap(e),
-                                          kDirectSeed, coincident_, rays.local());
-            const bool partly = c.partlyCovered();
-            if (partly && c.points.size() < static_cast<size_t>(kCoverSamples))
-                c = keptSamples(e, rays.local());
-            for (const bool side : {true, false}) {
-                const bool sealed = sealed_.faces(mesh_.sceneMesh(e), mesh_.sceneTriangle(e), side);
-                exposure_[node(e, side)] = sealed ? 0.0f : c.exposedFraction(side);
-            }
-            if (partly)
-                kept[i - begin] = std::move(c);
-        });
-        for (size_t i = begin; i < end; ++i) {
-            if (kept[i - begin])
-                coverSamples_.insert_or_assign(sorted[i], std::move(*kept[i - begin]));
-        }
-        begin = end;
-    }
-    // Children have larger ids than their parents.
-    std::vector<int> newlyPartly;
-    for (size_t e = mesh_.elementCount(); e-- > 0;) {
-        const int first = mesh_.firstChild(static_cast<int>(e));
-        if (first < 0)
-            continue;
-        for (const bool side : {true, false}) {
-            float sum = 0.0f;
-            for (int c = first; c < first + RadiosityMesh::kChildren; ++c)
-                sum += exposure_[node(c, side)];
-            exposure_[node(static_cast<int>(e), side)] = sum / RadiosityMesh::kChildren;
-        }
-        const int n = static_cast<int>(e);
-        if ((partlyCovered(node(n, true)) || partlyCovered(node(n, false))) &&
-            !coverSamples_.contains(n))
-            newlyPartly.push_back(n);
-    }
-    kept.assign(newlyPartly.size(), std::nullopt);
-    tbb::parallel_for(size_t(0), newlyPartly.size(),
-                      [&](size_t i) { kept[i] = keptSamples(newlyPartly[i], rays.local()); });
-    for (size_t i = 0; i < newlyPartly.size(); ++i)
-        coverSamples_.insert_or_assign(newlyPartly[i], std::move(*kept[i]));
-    rays_ += rays.combine(std::plus<uint64_t>());
-}
-
-bool RadiositySolver::exposed(int n) const {
-    return isCluster(n) || exposure_[static_cast<size_t>(n)] > 0.0f;
-}
-
-bool RadiositySolver::partlyCovered(int n) const {
-    return !isCluster(n) && exposure_[n] > 0.0f && exposure_[n] < 1.0f;
-}
-
-const CoverSamples* RadiositySolver::coverSamplesOf(int n) const {
-    if (!partlyCovered(n))
-        return nullptr;
-    const auto it = coverSamples_.find(element(n));
-    return it == coverSamples_.end() ? nullptr : &it->second;
-}
-
-float RadiositySolver::coveringGap(int e) const {
-    return kCoveringGap * std::sqrt(mesh_.minElementArea(e));
-}
-
-bool RadiositySolver::covered(int e, const ElementSample& x, const Vec3& n, uint64_t& rays) const {
-    return hiddenByCoincident(coincident_, mesh_, e, glm::dot(n, x.n) > 0.0f, x) ||
-           isCovered(scene_, mesh_, coincident_, x, n, coveringGap(e), rays);
-}
-
-Color RadiositySolver::exposedMean(int n, const std::array<Color, 4>& values) const {
-    const int first = mesh_.firstChild(element(n));
-    Color sum(0.0f), plain(0.0f);
-    float weight = 0.0f;
-    for (int c = 0; c < RadiosityMesh::kChildren; ++c) {
-        const float a = exposure_[node(first + c, front(n))];
-        sum += a * values[c];
-        weight += a;
-        plain += values[c];
-    }
-    return weight > 0.0f ? sum / weight : plain / static_cast<float>(RadiosityMesh::kChildren);
 }
 
 // L = Le + rho (D + H) over the exposed part; a wholly covered leaf side receives nothing.
 Color RadiositySolver::leafRadiance(int n, const Color& H) const {
-    if (!(exposure_[n] > 0.0f))
+    if (!(exposure_->fraction(n) > 0.0f))
         return emission(n);
     const Color L = emission(n) + mesh_.rho(element(n)) * (D_[n] + glm::max(H, Color(0.0f)));
     if (correction_.empty())
         return L;
     return glm::max(L + correction_[static_cast<size_t>(n)], emission(n));
+}
+
+RadiositySolver::~RadiositySolver() = default;
+
+Color RadiositySolver::elementRadiance(int e, bool side) const {
+    return L_[node(e, side)];
+}
+
+std::vector<RadiositySolver::Link>& RadiositySolver::linksOf(int n) {
+    return isCluster(n) ? clusterLinks_[static_cast<size_t>(cluster(n))]
+                        : links_[static_cast<size_t>(n)];
+}
+
+const Color& RadiositySolver::nodeRadiance(int n) const {
+    return isCluster(n) ? clusterL_[static_cast<size_t>(cluster(n))] : L_[static_cast<size_t>(n)];
 }
 
 size_t RadiositySolver::linkCount() const {
@@ -339,7 +213,7 @@ float longestEdge(const std::array<Vec3, 3>& c) {
 
 bool RadiositySolver::mayInteract(int receiver, int source) const {
     // A wholly covered side sends and receives nothing.
-    if (!exposed(receiver) || !exposed(source))
+    if (!exposure_->exposed(receiver) || !exposure_->exposed(source))
         return false;
     const int er = element(receiver), es = element(source);
     // Elements of one patch lie in one plane and see nothing of each other.
@@ -547,7 +421,7 @@ Color RadiositySolver::visibility(int receiver, int source, uint64_t& rays, bool
         int child;            // of an element node, RadiosityMesh::childAt; -1 for a cluster
         bool hidden = false;  // a covered point of a source
     };
-    // A partly covered end (exposure_) takes its points from its cover samples: the receiver
+    // A partly covered end (ElementExposure) takes its points from its cover samples: the receiver
     // those exposed on its side, so that V is the visible fraction of its exposed part, as its
     // radiance is that part's; the source any, its covered ones hidden, though a shadow ray may
     // reach them from inside the closed object that covers them (from the inner sides of a block,
@@ -558,8 +432,8 @@ Color RadiositySolver::visibility(int receiver, int source, uint64_t& rays, bool
     // that face each other across a straddled plane (the floor under a block, from the block's
     // face) to chance, and where none did, the link took the visible fraction of the pairs
     // behind it (estimate, below): the short block's face lost 8 % of its light.
-    const CoverSamples* receiverCover = coverSamplesOf(receiver);
-    const CoverSamples* sourceCover = coverSamplesOf(source);
+    const CoverSamples* receiverCover = exposure_->coverSamplesOf(receiver);
+    const CoverSamples* sourceCover = exposure_->coverSamplesOf(source);
     const Vec2 offset = receiverCover || sourceCover ? coverOffset(pixel) : Vec2(0.0f);
     const auto coverSample = [&](int node, const CoverSamples& cover, uint32_t k, bool receiving) {
         const std::vector<uint16_t>& exposed = cover.exposed[front(node) ? 0 : 1];
@@ -598,14 +472,14 @@ Color RadiositySolver::visibility(int receiver, int source, uint64_t& rays, bool
     // area A/4 counts it at zero), so a ray from it, which leaves through the solid behind it
     // (the far face of a stair tread), must not count as occluded a second time; and a side
     // facing a sealed interior or covered receives and sends nothing.
-    const auto takesPart = [&](int node, const NodeSample& s, const Vec3& toward) {
-        if (!isCluster(node))
+    const auto takesPart = [&](int end, const NodeSample& s, const Vec3& toward) {
+        if (!isCluster(end))
             return true;
         const bool side = glm::dot(s.x.n, toward - s.x.p) >= 0.0f;
-        const float a = exposure_[static_cast<size_t>(this->node(s.element, side))];
+        const float a = exposure_->fraction(node(s.element, side));
         if (a == 0.0f || a == 1.0f)
             return a == 1.0f;
-        return !covered(s.element, s.x, side ? s.x.n : -s.x.n, rays);
+        return !exposure_->covered(s.element, s.x, side ? s.x.n : -s.x.n, rays);
     };
     // The side normals of element nodes; a cluster has no side (zero: every pair counts).
     const auto sideNormal = [&](int node) {
@@ -687,7 +561,7 @@ Color RadiositySolver::visibility(int receiver, int source, uint64_t& rays, bool
 // estimator over the receiver's cover samples), the exposed part's F is F P(front | exposed) /
 // P(front): F itself when all points lie on one side.
 float RadiositySolver::exposedFormFactor(int receiver, int source, float F) const {
-    const CoverSamples* cover = coverSamplesOf(receiver);
+    const CoverSamples* cover = exposure_->coverSamplesOf(receiver);
     if (!cover || isCluster(source) || !(F > 0.0f))
         return F;
     const int es = element(source);
@@ -731,7 +605,8 @@ void RadiositySolver::computeDirect(const std::vector<int>& elements, bool repor
         const int e = elements[i];
         const PunctualDirect direct =
             lights.empty() ? PunctualDirect{}
-                           : punctualDirect(scene_, mesh_, e, lights, n, kDirectSeed, &coincident_);
+                           : punctualDirect(scene_, mesh_, e, lights, n,
+                                            ElementExposure::kPointSeed, &exposure_->coincident());
         for (int side = 0; side < 2; ++side) {
             const int nd = node(e, side == 0);
             Color D = direct.D[side];
@@ -739,7 +614,8 @@ void RadiositySolver::computeDirect(const std::vector<int>& elements, bool repor
                 D += deposits_->flux(e, side == 0) / (kPi * mesh_.area(e));
             // The mean over the exposed part: the covered points' shadow rays are blocked, and
             // photons land on the exposed part only.
-            D_[nd] = exposure_[nd] > 0.0f ? D / exposure_[nd] : D;
+            const float exposed = exposure_->fraction(nd);
+            D_[nd] = exposed > 0.0f ? D / exposed : D;
             Dspread_[nd] = direct.spread[side];
         }
     });
@@ -825,7 +701,7 @@ int RadiositySolver::children(int e) {
 }
 
 void RadiositySolver::finishSplits() {
-    computeExposure(created_);
+    rays_ += exposure_->compute(created_);
     computeDirect(created_);
     created_.clear();
 }
@@ -959,7 +835,8 @@ void RadiositySolver::evaluateLinks(const std::vector<PendingLink>& pending) {
         // A partly covered end makes the two directions' transfers differ (visibility,
         // exposedFormFactor).
         for (size_t i = 0; i < n; ++i) {
-            if (partlyCovered(pending[i].receiver) || partlyCovered(pending[i].source))
+            if (exposure_->partlyCovered(pending[i].receiver) ||
+                exposure_->partlyCovered(pending[i].source))
                 continue;
             const auto it = seen.find(key(pending[i].source, pending[i].receiver));
             if (it != seen.end() && reverse[static_cast<size_t>(it->second)] < 0) {
@@ -1118,7 +995,7 @@ std::vector<int> RadiositySolver::nodeChildren(int n) {
         } else {
             for (const int patch : clusters_->patches(cluster(n))) {
                 for (const bool side : {true, false}) {
-                    if (exposed(node(patch, side)))
+                    if (exposure_->exposed(node(patch, side)))
                         result.push_back(node(patch, side));
                 }
             }
@@ -1135,7 +1012,7 @@ std::vector<int> RadiositySolver::nodeChildren(int n) {
 // element side nothing, and an element side sees nothing of a cluster whose bounding sphere lies
 // wholly behind its plane.
 bool RadiositySolver::mayInteractWithCluster(int receiver, int source) const {
-    if (!exposed(receiver) || !exposed(source))
+    if (!exposure_->exposed(receiver) || !exposure_->exposed(source))
         return false;
     const auto inFront = [&](int side, int other) {
         if (isCluster(side))
@@ -1348,8 +1225,10 @@ bool RadiositySolver::subdivideByContrast() {
         const int n = node(e, side);
         return static_cast<double>(maxComponent(glm::max(L_[n] - emission(n), Color(0.0f))));
     };
-    // Only exposed leaf sides show light to compare (exposure_).
-    const auto exposed = [&](int e, bool side) { return exposure_[node(e, side)] > 0.0f; };
+    // Only exposed leaf sides show light to compare (ElementExposure).
+    const auto exposed = [&](int e, bool side) {
+        return exposure_->fraction(node(e, side)) > 0.0f;
+    };
     const double relative = settings_.subdivisionThreshold;
     std::vector<int> marked;
     for (size_t i = 0; i < leaves.size(); ++i) {
@@ -1482,7 +1361,7 @@ void RadiositySolver::setReceiverWeights(int receiver, Link& link) const {
     const int first = mesh_.firstChild(element(receiver));
     float sum = 0.0f, exposed = 0.0f;
     for (int c = 0; c < RadiosityMesh::kChildren; ++c) {
-        const float a = exposure_[node(first + c, front(receiver))];
+        const float a = exposure_->fraction(node(first + c, front(receiver)));
         sum += a * V[c];
         exposed += a;
     }
@@ -1624,7 +1503,7 @@ Color RadiositySolver::pushPull(int n, const Color& Hdown, const Mat3& Gdown, Ch
         lo = glm::min(lo, Lmin_[child]);
         hi = glm::max(hi, Lmax_[child]);
     }
-    L_[n] = exposedMean(n, Lchild);
+    L_[n] = exposure_->exposedMean(n, Lchild);
     Lmin_[n] = lo;
     Lmax_[n] = hi;
     return L_[n];
@@ -1895,44 +1774,6 @@ Color RadiositySolver::elementIndirect(int e, bool side) const {
     return glm::max(L_[n] - emission(n) - direct_[n], Color(0.0f));
 }
 
-// A wholly covered leaf side is seen by nobody, but it shares vertices with exposed leaves, whose
-// nodal average (RadiosityMesh::setElementValues) it would darken (the ceiling around a lamp that
-// hangs just under it, the floor around a block): it shows the mean over the exposed leaves
-// below its nearest exposed ancestor instead.
-std::function<Color(int, bool)> RadiositySolver::shownValues(
-    const std::function<Color(int, bool)>& value) const {
-    std::array<std::vector<Color>, 2> mean;
-    for (const bool side : {true, false}) {
-        std::vector<Color>& m = mean[side ? 0 : 1];
-        m.resize(mesh_.elementCount());
-        // Children have larger ids than their parents.
-        for (size_t i = m.size(); i-- > 0;) {
-            const int e = static_cast<int>(i);
-            const int first = mesh_.firstChild(e);
-            if (first < 0) {
-                m[i] = value(e, side);
-                continue;
-            }
-            std::array<Color, 4> values;
-            for (int c = 0; c < RadiosityMesh::kChildren; ++c)
-                values[c] = m[static_cast<size_t>(first + c)];
-            m[i] = exposedMean(node(e, side), values);
-        }
-    }
-    return [this, mean = std::move(mean)](int e, bool side) {
-        std::tie(e, side) = shownSide(e, side);
-        while (!(exposure_[node(e, side)] > 0.0f) && mesh_.parent(e) >= 0)
-            e = mesh_.parent(e);
-        return mean[side ? 0 : 1][static_cast<size_t>(e)];
-    };
-}
-
-std::pair<int, bool> RadiositySolver::shownSide(int e, bool front) const {
-    return shownLeafSide(scene_, mesh_, coincident_, e, front, [this](int leaf, bool side) {
-        return exposure_[node(leaf, side)] > 0.0f;
-    });
-}
-
 // The final gather: a Monte Carlo gather of each leaf side's indirect light from the solution, as
 // Rushmeier, Patterson and Veerasamy 1993 ("Geometric Simplification for Indirect Illumination
 // Calculations", Graphics Interface '93) gather from a coarse radiosity solution. The links'
@@ -1980,7 +1821,7 @@ void RadiositySolver::finalGather() {
             if (!(gathered[nd].r >= 0.0f))
                 continue;
             const int n = static_cast<int>(nd);
-            const double area = mesh_.area(element(n)) * exposure_[nd];
+            const double area = mesh_.area(element(n)) * exposure_->fraction(n);
             const int root = node(mesh_.patch(element(n)), front(n));
             patchDelta[root] +=
                 static_cast<float>(area) * (gathered[nd] - (L_[nd] - emission(n) - direct_[nd]));
@@ -1995,7 +1836,7 @@ void RadiositySolver::finalGather() {
             const int root = node(mesh_.patch(element(n)), front(n));
             const Color delta = patchDelta[root] / static_cast<float>(patchArea[root]);
             correction_[nd] += delta;
-            const double area = mesh_.area(element(n)) * exposure_[nd];
+            const double area = mesh_.area(element(n)) * exposure_->fraction(n);
             change += area * channelSum(glm::abs(delta));
             norm += area * channelSum(gathered[nd]);
         }
@@ -2017,7 +1858,8 @@ void RadiositySolver::finalGather() {
 // mean over an element is not the element's, which the fluxes and the links use).
 Color RadiositySolver::reflectedAt(const MeshedHit& y) const {
     const int leaf = mesh_.locate(y.hit.mesh, y.hit.triangle, y.hit.barycentric).element;
-    const auto [e, side] = leafSideSeenAt(scene_, mesh_, coincident_, leaf, y.front, y.hit.p);
+    const auto [e, side] =
+        leafSideSeenAt(scene_, mesh_, exposure_->coincident(), leaf, y.front, y.hit.p);
     const int n = node(e, side);
     return glm::max(L_[n] - emission(n), Color(0.0f));
 }
@@ -2050,7 +1892,7 @@ std::vector<Color> RadiositySolver::gatherIndirect(const std::vector<int>& leave
         uint64_t& count = rays.local();
         for (const bool side : {true, false}) {
             const int nd = node(e, side);
-            if (!exposed(nd))
+            if (!exposure_->exposed(nd))
                 continue;
             Sampler sampler(kFinalGatherSeed);
             Color sum(0.0f);
@@ -2059,7 +1901,7 @@ std::vector<Color> RadiositySolver::gatherIndirect(const std::vector<int>& leave
                 sampler.startPixelSample(IVec2(e, side ? 0 : 1), k);
                 const ElementSample x = sampleElement(scene_, mesh_, e, sampler.get2D());
                 const Vec3 normal = side ? x.n : -x.n;
-                if (partlyCovered(nd) && covered(e, x, normal, count))
+                if (exposure_->partlyCovered(nd) && exposure_->covered(e, x, normal, count))
                     continue;
                 const Vec3 w =
                     Frame::fromNormal(normal).toWorld(sampleCosineHemisphere(sampler.get2D()));
@@ -2082,12 +1924,13 @@ std::vector<Color> RadiositySolver::gatherIndirect(const std::vector<int>& leave
 void RadiositySolver::computeVertexValues() {
     // The whole reflected radiance last, so that the mesh is left with the front's reflected
     // radiance.
-    vertexIndirect_.compute(
-        mesh_, shownValues([this](int e, bool side) { return elementIndirect(e, side); }));
-    vertexReflected_.compute(mesh_, shownValues([this](int element, bool side) {
-                                 const int n = node(element, side);
-                                 return glm::max(L_[n] - emission(n), Color(0.0f));
-                             }));
+    vertexIndirect_.compute(mesh_, exposure_->shownValues([this](int e, bool side) {
+        return elementIndirect(e, side);
+    }));
+    vertexReflected_.compute(mesh_, exposure_->shownValues([this](int element, bool side) {
+        const int n = node(element, side);
+        return glm::max(L_[n] - emission(n), Color(0.0f));
+    }));
 }
 
 void RadiositySolver::beginStage(const std::string& name, uint64_t total) {
@@ -2122,7 +1965,7 @@ void RadiositySolver::solve(SolveProgress* progress) {
     const std::vector<int> leaves = leafElements();
     std::vector<int> elements(mesh_.elementCount());
     std::iota(elements.begin(), elements.end(), 0);
-    computeExposure(elements);
+    rays_ += exposure_->compute(elements);
     const bool punctual = !punctualLights(scene_).empty();
     if (punctual)
         beginStage("direct light of the punctual lights", leaves.size());
@@ -2206,7 +2049,7 @@ Color RadiositySolver::radiance(uint32_t mesh, uint32_t triangle, Vec3 b, bool i
         return L;
     // A side hidden under a coincident face shows that face's light (shownValues), its emission
     // too.
-    const auto [e, side] = shownSide(point.element, front);
+    const auto [e, side] = exposure_->shownSide(point.element, front);
     return L + emission(node(e, side));
 }
 
@@ -2304,7 +2147,7 @@ PassStats RadiositySolver::stats() const {
                                      sizeof(std::array<Color, 4>)) +
                     clusterLinks_.size() * (sizeof(Cluster) + sizeof(std::vector<Link>));
     memory += vertexReflected_.memoryBytes() + vertexIndirect_.memoryBytes() +
-              direct_.size() * sizeof(Color) + exposure_.size() * sizeof(float);
+              direct_.size() * sizeof(Color) + exposure_->memoryBytes();
     const RadiosityIteration last = iterations_.empty() ? RadiosityIteration{} : iterations_.back();
     // The reflected luminous flux of each part, pi sum A Y(L) over the leaf sides (lm).
     double directFlux = 0.0, indirectFlux = 0.0;
@@ -2313,7 +2156,7 @@ PassStats RadiositySolver::stats() const {
         if (!mesh_.isLeaf(element))
             continue;
         for (const bool side : {true, false}) {
-            const double area = mesh_.area(element) * exposure_[node(element, side)];
+            const double area = mesh_.area(element) * exposure_->fraction(node(element, side));
             directFlux += kPi * area * luminance(elementDirect(element, side));
             indirectFlux += kPi * area * luminance(elementIndirect(element, side));
         }
@@ -2323,9 +2166,9 @@ PassStats RadiositySolver::stats() const {
             {"elements", std::to_string(mesh.elements)},
             {"leaves", std::to_string(mesh.leaves)},
             {"clusters", std::to_string(clusters_ ? clusters_->size() : 0)},
-            {"sealed_solids", std::to_string(sealed_.count())},
-            {"coincident_patches", std::to_string(coincident_.hiddenPatches())},
-            {"coincident_area_m2", formatStat(coincident_.hiddenArea())},
+            {"sealed_solids", std::to_string(exposure_->sealed().count())},
+            {"coincident_patches", std::to_string(exposure_->coincident().hiddenPatches())},
+            {"coincident_area_m2", formatStat(exposure_->coincident().hiddenArea())},
             {"links", std::to_string(links)},
             {"refinement_rounds", std::to_string(rounds_)},
             {"refined_links", std::to_string(refinedLinks_)},

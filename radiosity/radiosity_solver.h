@@ -93,6 +93,7 @@
 
 namespace penumbra {
 
+class ElementExposure;
 class Scene;
 struct MeshedHit;
 
@@ -110,6 +111,7 @@ class RadiositySolver : public RadiositySolution {
     // carried on like the punctual lights' direct light (D_i below, deposited_flux.h).
     RadiositySolver(const Scene& scene, RadiosityMesh& mesh, const RadiositySettings& settings,
                     const std::vector<FluxDeposit>& deposits = {});
+    ~RadiositySolver() override;
 
     // Direct light, initial linking, then gather sweeps alternating with refinement until nothing
     // is refined and the iteration has converged (or maxIterations); then the direct part
@@ -128,7 +130,7 @@ class RadiositySolver : public RadiositySolution {
     Color indirectRadiance(uint32_t mesh, uint32_t triangle, Vec3 b,
                            bool front = true) const override;
     // The element side's own (flat, not interpolated) radiance, emission included.
-    Color elementRadiance(int element, bool front = true) const { return L_[node(element, front)]; }
+    Color elementRadiance(int element, bool front = true) const;
     // The first reflection of the sources' light on a leaf side, rho (D + sum_j K_ij Le_j) with
     // the links of the leaf and of its ancestors (computeDirectPart), and the rest of its
     // reflected light, max(0, L - Le - direct): the paths L D E and L D D+ E ending there (cd/m²).
@@ -233,25 +235,11 @@ class RadiositySolver : public RadiositySolution {
         double change = 0.0, norm = 0.0;
     };
 
-    // Nodes are element sides: node 2e is the front of element e, 2e + 1 its back. The patch
-    // sides, the roots of the trees, are nodes [0, 2 patchCount()).
-    static int node(int element, bool front) { return 2 * element + (front ? 0 : 1); }
-    static int element(int node) { return node / 2; }
-    static bool front(int node) { return node % 2 == 0; }
-    // Clusters are nodes too, with negative ids: cluster c is node -1 - c.
-    static bool isCluster(int node) { return node < 0; }
-    static int clusterNode(int cluster) { return -1 - cluster; }
-    static int cluster(int node) { return -1 - node; }
-    std::vector<Link>& linksOf(int node) {
-        return isCluster(node) ? clusterLinks_[static_cast<size_t>(cluster(node))]
-                               : links_[static_cast<size_t>(node)];
-    }
+    // The links gathered by a node (solver_nodes.h).
+    std::vector<Link>& linksOf(int node);
     // Radiance of a node (a cluster's: the area-weighted mean over its element sides) and the
     // range of max(L) over its leaves.
-    const Color& nodeRadiance(int node) const {
-        return isCluster(node) ? clusterL_[static_cast<size_t>(cluster(node))]
-                               : L_[static_cast<size_t>(node)];
-    }
+    const Color& nodeRadiance(int node) const;
     float nodeLmin(int node) const;
     float nodeLmax(int node) const;
     // Bounding sphere of a node: a cluster's, or an element's about its centroid.
@@ -261,28 +249,7 @@ class RadiositySolver : public RadiositySolution {
     Color emission(int node) const;
 
     void resizeArrays();
-    // Exposed fractions of both sides of `elements` (exposure_), then of their ancestors.
-    void computeExposure(const std::vector<int>& elements);
-    // The gap (m) under which a surface covers the element (isCovered, element_sampling.h).
-    float coveringGap(int element) const;
-    // Whether the point x of the element is covered on the side of normal n: hidden by a
-    // coincident patch (coincident_faces.h) or covered by a surface within the gap (isCovered,
-    // element_sampling.h). Adds the rays it casts to `rays`.
-    bool covered(int element, const ElementSample& x, const Vec3& n, uint64_t& rays) const;
-    // The leaf side whose light a leaf side shows: itself, or where it is wholly hidden by a
-    // coincident patch, the replacing patch's leaf side under its centroid (shownLeafSide,
-    // coincident_faces.h; for shownValues and radiance()).
-    std::pair<int, bool> shownSide(int element, bool front) const;
-    // Whether the node is a cluster or an element side not wholly covered.
-    bool exposed(int node) const;
-    // Whether the node is an element side with an exposed fraction strictly between 0 and 1.
-    bool partlyCovered(int node) const;
-    // The cover samples of a partly covered node's element, nullptr for any other node.
-    const CoverSamples* coverSamplesOf(int node) const;
     float exposedFormFactor(int receiver, int source, float F) const;
-    // The mean over the exposed part of element side n of one value per child (values[c] of
-    // child c), weighted by the children's exposed fractions; their plain mean if none is exposed.
-    Color exposedMean(int n, const std::array<Color, 4>& values) const;
     // A leaf side's radiance from what it gathers, H (cd/m², the exposed part's mean).
     Color leafRadiance(int n, const Color& H) const;
     // Refinement (HSA91 Refine, Link, RefineLinks).
@@ -367,9 +334,6 @@ class RadiositySolver : public RadiositySolution {
     std::vector<Color> gatherIndirect(const std::vector<int>& leaves);
     Color reflectedAt(const MeshedHit& hit) const;
     void computeVertexValues();
-    // The per-element value function for SideVertexValues::compute that shows `value` at the
-    // exposed leaf sides and the exposed mean of an ancestor's leaves at covered ones.
-    std::function<Color(int, bool)> shownValues(const std::function<Color(int, bool)>& value) const;
     // The progress sink of solve(), if any (these do nothing without one).
     void beginStage(const std::string& name, uint64_t total);
     void advanceStage(uint64_t work);
@@ -389,8 +353,7 @@ class RadiositySolver : public RadiositySolution {
     const Scene& scene_;
     RadiosityMesh& mesh_;
     RadiositySettings settings_;
-    SealedInteriors sealed_;
-    CoincidentFaces coincident_;
+    std::unique_ptr<ElementExposure> exposure_;
     std::unique_ptr<DepositedFlux> deposits_;  // null without deposits
 
     // Per node (2 * element + side).
@@ -405,13 +368,6 @@ class RadiositySolver : public RadiositySolution {
     std::vector<Color> D_;
     std::vector<float> Dspread_;  // spread of max(D) over the element's sample points
     std::vector<Color> direct_;   // the first reflection of the sources (elementDirect)
-    // The fraction of the element side's area that is not covered (coverSamples,
-    // element_sampling.h): a leaf's L, H and D are the means over that part, the only one that
-    // sends or receives light; a parent's is the mean of its children's.
-    std::vector<float> exposure_;
-    // The points of every element with a partly covered side, with where they are covered, so
-    // that the shadow rays of its links need not probe for covers at their own points.
-    std::unordered_map<int, CoverSamples> coverSamples_;
     // What the final gather adds to each leaf side's radiance beyond the links' transfer
     // (finalGather in radiosity_solver.cpp); empty without a final gather.
     std::vector<Color> correction_;
