@@ -11,6 +11,7 @@
 #include "radiosity/element_sampling.h"
 #include "radiosity/form_factor.h"
 #include "radiosity/gather_divergence.h"
+#include "radiosity/link_transfer.h"
 #include "radiosity/meshed_hit.h"
 #include "radiosity/solver_nodes.h"
 
@@ -37,11 +38,9 @@ double channelSum(const Color& c) {
     return static_cast<double>(c.r) + c.g + c.b;
 }
 
-// Seeds of the samplers, so that visibility, final-gather and direct-light samples
-// (ElementExposure::kPointSeed) never share a sequence.
-constexpr uint32_t kVisibilitySeed = 0x9e3779b9u;
+// The final gather's sampler seed, apart from those of the links' visibility (link_transfer.cpp)
+// and of the element points (ElementExposure::kPointSeed), so that they never share a sequence.
 constexpr uint32_t kFinalGatherSeed = 0xc2b2ae35u;
-constexpr uint32_t kCoverOffsetSeed = 0x27d4eb2fu;
 
 // Passes of the final gather's defect correction (finalGather), at most, and the relative change
 // of the correction below which they stop.
@@ -62,29 +61,9 @@ constexpr uint64_t kGatherProgressUnits = 1000;
 // Passes of adaptive subdivision (subdivision_threshold) after the refinement rounds.
 constexpr int kSubdivisionPasses = 4;
 
-// Shadow rays a link casts before deciding whether it needs all of visibility_samples.
-constexpr int kFirstVisibilityRays = 4;
-
-// Pairs of points visibility() may draw per shadow ray: it skips, before their rays, the pairs
-// that do not face each other and those whose cluster side does not take part.
-constexpr int kDrawsPerRay = 4;
-
-// Centroid distance, in longest edges of the pair, from which a link's form factor is the
-// seven-point rule over the oracle's samples (formFactor).
-constexpr float kFarLink = 4.0f;
-
-// Fraction of the way from a receiver's corners to its centroid at which the oracle samples the
-// kernel (kernelSamples): off the contact line with a touching source, still at the corner to a
-// thousandth of the element's size for the linear model.
-constexpr float kKernelInset = 1e-3f;
-
 // The receiver-relative criterion's floor (exceedsThreshold), as a fraction of the scene's mean
 // radiance in each channel: a receiver darker than this is refined as if it were this bright.
 constexpr float kRelativeFloor = 0.1f;
-
-// Radius, in square roots of the smallest element area, under which two clusters (or a cluster
-// and an element) close together are linked rather than split (clusterKernel).
-constexpr float kClusterMinRadius = 2.0f;
 
 }  // namespace
 
@@ -110,8 +89,9 @@ RadiositySolver::RadiositySolver(const Scene& scene, RadiosityMesh& mesh,
         clusterLmin_.assign(n, 0.0f);
         clusterLmax_.assign(n, 0.0f);
         clusterLinks_.resize(n);
-        clusterMinRadius_ = kClusterMinRadius * std::sqrt(settings_.meshing(scene_).minElementArea);
     }
+    transfer_ =
+        std::make_unique<LinkTransfer>(scene_, mesh_, *exposure_, clusters_.get(), settings_);
 }
 
 void RadiositySolver::resizeArrays() {
@@ -170,417 +150,6 @@ float RadiositySolver::nodeLmin(int n) const {
 float RadiositySolver::nodeLmax(int n) const {
     return isCluster(n) ? clusterLmax_[static_cast<size_t>(cluster(n))]
                         : Lmax_[static_cast<size_t>(n)];
-}
-
-Vec3 RadiositySolver::nodeCenter(int n) const {
-    return isCluster(n) ? (*clusters_)[cluster(n)].center : mesh_.centroid(element(n));
-}
-
-double RadiositySolver::nodeArea(int n) const {
-    return isCluster(n) ? (*clusters_)[cluster(n)].area : mesh_.area(element(n));
-}
-
-float RadiositySolver::nodeRadius(int n) const {
-    if (isCluster(n))
-        return (*clusters_)[cluster(n)].radius;
-    const int e = element(n);
-    const Vec3 c = mesh_.centroid(e);
-    float r = 0.0f;
-    for (const Vec3& corner : mesh_.corners(e))
-        r = glm::max(r, glm::distance(corner, c));
-    return r;
-}
-
-// --- Geometry of element sides -------------------------------------------------------------
-
-namespace {
-
-// The element's corners ordered counter-clockwise seen from the given side, so that the
-// one-sided form factors of form_factor.h see that side as the front.
-std::array<Vec3, 3> sideCorners(const RadiosityMesh& mesh, int element, bool front) {
-    std::array<Vec3, 3> c = mesh.corners(element);
-    if (!front)
-        std::swap(c[1], c[2]);
-    return c;
-}
-
-float longestEdge(const std::array<Vec3, 3>& c) {
-    return glm::max(glm::distance(c[0], c[1]),
-                    glm::max(glm::distance(c[1], c[2]), glm::distance(c[2], c[0])));
-}
-
-}  // namespace
-
-bool RadiositySolver::mayInteract(int receiver, int source) const {
-    // A wholly covered side sends and receives nothing.
-    if (!exposure_->exposed(receiver) || !exposure_->exposed(source))
-        return false;
-    const int er = element(receiver), es = element(source);
-    // Elements of one patch lie in one plane and see nothing of each other.
-    if (mesh_.patch(er) == mesh_.patch(es))
-        return false;
-    const auto cr = mesh_.corners(er), cs = mesh_.corners(es);
-    const Vec3 nr = front(receiver) ? mesh_.normal(er) : -mesh_.normal(er);
-    const Vec3 ns = front(source) ? mesh_.normal(es) : -mesh_.normal(es);
-    // Some corner of each must lie strictly in front of the other's side (a tolerance of 1e-5
-    // of the elements' size absorbs the rounding of coplanar neighbours).
-    const float tolerance = 1e-5f * glm::max(longestEdge(cr), longestEdge(cs));
-    const auto anyInFront = [tolerance](const std::array<Vec3, 3>& corners, const Vec3& origin,
-                                        const Vec3& n) {
-        for (const Vec3& c : corners) {
-            if (glm::dot(n, c - origin) > tolerance)
-                return true;
-        }
-        return false;
-    };
-    return anyInFront(cs, cr[0], nr) && anyInFront(cr, cs[0], ns);
-}
-
-// The accurate unoccluded form factor of a link: the area average over the receiver of the exact
-// point-to-polygon value (form_factor.h). The quadrature order (Gauss-Legendre points per axis of
-// the collapsed map, order^2 point values) follows the centroid distance d between the elements
-// relative to their size s (the longer of their longest edges). Measured against order 24 on 400
-// random pairs of triangles in random orientations per distance, mean and largest relative error:
-// order 3 at d = 3 s 2.6e-6 and 3.5e-5; order 4 at 1.5 s 3.8e-6 and 6e-5; order 5 at s 1.3e-5
-// and 1.0e-3. Each order is used from that distance on, so no link's error exceeds that of the
-// seven-point rule below, which the far pairs have taken since it was measured (mean 5e-5, largest
-// 1.6e-3), and all are far under what a link's visible fraction from 16 shadow rays can resolve.
-// Closer (adjacent) pairs take order 8, where the integrand is only Lipschitz: on 500 random pairs
-// of triangles sharing an edge, at angles from 11 to 166 degrees and against order 40, order 8 is
-// within 3.5e-4 on average (2.8e-2 at worst, for slivers) and order 10 within 1.5e-4 (1.2e-2);
-// order 8 costs 64 point evaluations instead of 100 and keeps the closed furnace box within its
-// 1 % (tests/radiosity_test.cpp).
-//
-// Far pairs wholly in front of each other (centroid distance at least kFarLink longest edges)
-// reuse the oracle's seven point values instead: the classical seven-point rule of degree 3 on the
-// triangle, weights 1/20 at the corners, 2/15 at the edge midpoints and 9/20 at the centroid (see
-// Stroud 1971, "Approximate Calculation of Multiple Integrals"). Measured against order 24 on
-// 450 random facing triangle pairs at 4 edges: mean relative error 5e-5, largest 1.6e-3 (at 2
-// edges 6e-4 and 1.2e-2, too much); a pair that straddles the other's plane needs the clipping of
-// areaToAreaFormFactor and never takes the rule.
-float RadiositySolver::formFactor(int receiver, int source, const KernelSamples* samples) const {
-    const auto cr = sideCorners(mesh_, element(receiver), front(receiver));
-    const auto cs = sideCorners(mesh_, element(source), front(source));
-    const float size = glm::max(longestEdge(cr), longestEdge(cs));
-    const float distance =
-        glm::distance((cr[0] + cr[1] + cr[2]) / 3.0f, (cs[0] + cs[1] + cs[2]) / 3.0f);
-    const auto inFront = [](const std::array<Vec3, 3>& c, const std::array<Vec3, 3>& plane) {
-        const Vec3 n = glm::cross(plane[1] - plane[0], plane[2] - plane[0]);
-        return glm::dot(n, c[0] - plane[0]) > 0.0f && glm::dot(n, c[1] - plane[0]) > 0.0f &&
-               glm::dot(n, c[2] - plane[0]) > 0.0f;
-    };
-    if (samples && distance >= kFarLink * size && inFront(cs, cr) && inFront(cr, cs)) {
-        const KernelSamples& k = *samples;
-        return (k.corner[0] + k.corner[1] + k.corner[2]) / 20.0f +
-               (k.mid[0] + k.mid[1] + k.mid[2]) * (2.0f / 15.0f) + k.centroid * (9.0f / 20.0f);
-    }
-    const int order = distance >= 3.0f * size   ? 3
-                      : distance >= 1.5f * size ? 4
-                      : distance >= size        ? 5
-                                                : 8;
-    return static_cast<float>(areaToAreaFormFactor(cr, cs, order));
-}
-
-// Point values of the unoccluded form factor F(x -> source) at the receiver's corners and
-// centroid, for the oracle and the linear push. The corners (and so the edge midpoints) are taken
-// a fraction kKernelInset of the way towards the centroid: where the receiver touches the
-// source's plane (a wall standing on a floor, the floor running under a block), a point on the
-// contact line lies in the source's plane and sees nothing of it (F = 0), while the limit from
-// inside the receiver is the largest value of F over it (1/2 for a half-infinite perpendicular
-// source). Taken exactly on the line, the samples put F at its smallest where it peaks: the oracle
-// saw a small, smooth kernel and left such links at coarse receivers, whose mean F the linear push
-// spreads evenly, so the receiver's elements along the contact line gathered up to a third too
-// little (the furnace with a block on its floor, tests/radiosity_robustness_test.cpp).
-RadiositySolver::KernelSamples RadiositySolver::kernelSamples(int receiver, int source) const {
-    const int er = element(receiver), es = element(source);
-    const Vec3 nr = front(receiver) ? mesh_.normal(er) : -mesh_.normal(er);
-    const Vec3 ns = front(source) ? mesh_.normal(es) : -mesh_.normal(es);
-    auto cr = mesh_.corners(er);
-    const auto cs = mesh_.corners(es);
-    const Vec3 centroid = (cr[0] + cr[1] + cr[2]) / 3.0f;
-    for (Vec3& corner : cr)
-        corner += kKernelInset * (centroid - corner);
-    // pointToPolygonFormFactor() is two-sided in the polygon: a point behind the source side sees
-    // nothing of it.
-    const auto F = [&](const Vec3& x) {
-        return glm::dot(ns, x - cs[0]) > 0.0f
-                   ? static_cast<float>(pointToPolygonFormFactor(x, nr, cs))
-                   : 0.0f;
-    };
-    return {{F(cr[0]), F(cr[1]), F(cr[2])},
-            {F(0.5f * (cr[0] + cr[1])), F(0.5f * (cr[1] + cr[2])), F(0.5f * (cr[2] + cr[0]))},
-            F(centroid)};
-}
-
-// The linear model of a link's form factor over its receiver (see Link::g): the plane through
-// the corner values, moved to have the link's exact mean F, its slope scaled down by the largest
-// t in [0, 1] that keeps it non-negative at the corners (and so everywhere on the receiver).
-// Returns the relative gradient and sets `limiter` to t.
-Vec3 RadiositySolver::linearModel(int receiver, const KernelSamples& k, float F,
-                                  float& limiter) const {
-    limiter = 1.0f;
-    const float mean = k.cornerMean();
-    for (const float f : k.corner) {
-        if (f < mean)
-            limiter = glm::min(limiter, F / (mean - f));
-    }
-    // Gradient of the linear interpolant of values f_i at corners p_i: with e1 = p1 - p0,
-    // e2 = p2 - p0 and m = e1 x e2, grad = ((f1 - f0) e2 x m + (f2 - f0) m x e1) / |m|^2.
-    const auto c = mesh_.corners(element(receiver));
-    const Vec3 e1 = c[1] - c[0], e2 = c[2] - c[0];
-    const Vec3 m = glm::cross(e1, e2);
-    const Vec3 gradient = ((k.corner[1] - k.corner[0]) * glm::cross(e2, m) +
-                           (k.corner[2] - k.corner[0]) * glm::cross(m, e1)) /
-                          glm::dot(m, m);
-    return gradient * (limiter / F);
-}
-
-namespace {
-
-// The pair's offset into its ends' cover samples (visibility), one per pair of nodes `pixel`.
-Vec2 coverOffset(IVec2 pixel) {
-    Sampler offsets(kCoverOffsetSeed);
-    offsets.startPixelSample(pixel, 0);
-    return offsets.get2D();
-}
-
-// The visible fractions of the children of a link's two ends (Link::childV) from the link's own
-// rays: per end (0 the receiver, 1 the source) and child, the sums of the rays' transmittances
-// (their channels' mean) and the ray counts, over all pairs and over the pairs facing each other.
-class ChildTally {
-  public:
-    // A ray between the children (RadiosityMesh::childAt; -1 for a cluster end) with
-    // transmittance T.
-    void add(int receiverChild, int sourceChild, const Color& T, bool facing) {
-        const float mean = (T.r + T.g + T.b) / 3.0f;
-        const std::array<int, 2> child{receiverChild, sourceChild};
-        for (size_t end = 0; end < 2; ++end) {
-            if (child[end] < 0)
-                continue;
-            const auto c = static_cast<size_t>(child[end]);
-            all_.sum[end][c] += mean;
-            ++all_.count[end][c];
-            if (facing) {
-                facing_.sum[end][c] += mean;
-                ++facing_.count[end][c];
-            }
-        }
-    }
-    // Each child's mean over the facing pairs or all, -1 where no ray fell in it.
-    std::array<float, 4> means(size_t end, bool facingOnly) const {
-        const Sums& s = facingOnly ? facing_ : all_;
-        std::array<float, 4> V{};
-        for (size_t c = 0; c < V.size(); ++c)
-            V[c] =
-                s.count[end][c] > 0 ? s.sum[end][c] / static_cast<float>(s.count[end][c]) : -1.0f;
-        return V;
-    }
-
-  private:
-    struct Sums {
-        std::array<std::array<float, 4>, 2> sum{};
-        std::array<std::array<int, 4>, 2> count{};
-    };
-    Sums all_, facing_;
-};
-
-}  // namespace
-
-// Visible fraction between two element sides: the mean transmittance of n shadow rays between
-// paired points of the two elements. The points are stratified: sample k on each element is point
-// k of an Owen-scrambled (0,2)-sequence (core/sampler.h) mapped to the triangle by Heitz's
-// area-preserving map, and the two elements use independently scrambled dimensions, so the pairs
-// are decorrelated (HSA91 estimate visibility in the same way, by rays between jittered points of
-// the two elements; Cohen and Wallace 1993, chapter 4). Thin glass transmits, as everywhere in
-// penumbra. A cluster's points are points of its patches, chosen by area.
-//
-// With `adaptive`, the first kFirstVisibilityRays pairs, which are themselves stratified (the first
-// 4 points of a (0,2)-sequence fall one in each quarter of the square), decide alone when they
-// agree, i.e. the pair looks wholly visible or wholly hidden; only pairs they see partly occluded
-// get the full n (as HSA91 suggest, casting more rays only where a few disagree). Most links of
-// an interior are unoccluded, so this saves most rays. An occluder missed by all four is small
-// against the pair, and the caller asks for it only where even missing the whole transfer would be
-// under the oracle's threshold (evaluateLinks).
-//
-// The same rays, binned by the child of each element end they leave or reach, give the children's
-// visible fractions (`children`) for the link's child weights, about n/4 rays per child: the
-// children exist or not yet, they are the element's 1:4 split (RadiosityMesh::childAt).
-Color RadiositySolver::visibility(int receiver, int source, uint64_t& rays, bool adaptive,
-                                  ChildVisibility* children) const {
-    const int n = settings_.visibilitySamples;
-    // Sample coordinates for the (IVec2) pixel of the sequence: cluster ids are negative. Ray k
-    // takes sample k of the receiver's and the source's own dimensions (as a Sampler's first and
-    // second get2D).
-    const IVec2 pixel(receiver < 0 ? 0x40000000 - receiver : receiver,
-                      source < 0 ? 0x40000000 - source : source);
-    const SampleSequence2D receiverSequence(kVisibilitySeed, pixel, 1),
-        sourceSequence(kVisibilitySeed, pixel, 2);
-    struct NodeSample {
-        ElementSample x;
-        int element;
-        int child;            // of an element node, RadiosityMesh::childAt; -1 for a cluster
-        bool hidden = false;  // a covered point of a source
-    };
-    // A partly covered end (ElementExposure) takes its points from its cover samples: the receiver
-    // those exposed on its side, so that V is the visible fraction of its exposed part, as its
-    // radiance is that part's; the source any, its covered ones hidden, though a shadow ray may
-    // reach them from inside the closed object that covers them (from the inner sides of a block,
-    // the floor under it). Ray k takes the point k after an offset drawn per pair. The cover
-    // samples are a power-of-two prefix of a (0,2)-sequence, whose aligned runs of 2^j points are
-    // each stratified over the element: the source's offset is a multiple of the rays' power of
-    // two, so its points are as stratified as fresh ones. Random points would leave the few pairs
-    // that face each other across a straddled plane (the floor under a block, from the block's
-    // face) to chance, and where none did, the link took the visible fraction of the pairs
-    // behind it (estimate, below): the short block's face lost 8 % of its light.
-    const CoverSamples* receiverCover = exposure_->coverSamplesOf(receiver);
-    const CoverSamples* sourceCover = exposure_->coverSamplesOf(source);
-    const Vec2 offset = receiverCover || sourceCover ? coverOffset(pixel) : Vec2(0.0f);
-    const auto coverSample = [&](int node, const CoverSamples& cover, uint32_t k, bool receiving) {
-        const std::vector<uint16_t>& exposed = cover.exposed[front(node) ? 0 : 1];
-        if (receiving && !exposed.empty()) {
-            const size_t m = exposed.size();
-            const size_t point = exposed[(static_cast<size_t>(offset.x * m) + k) % m];
-            return NodeSample{cover.points[point], element(node), cover.child[point], false};
-        }
-        const size_t m = cover.points.size();
-        const size_t run = std::min(m, std::bit_ceil(static_cast<size_t>(n)));
-        const size_t point = (static_cast<size_t>(offset.y * (m / run)) * run + k) % m;
-        return NodeSample{cover.points[point], element(node), cover.child[point],
-                          !receiving && !cover.isExposed(point, front(node))};
-    };
-    const auto elementSampler = [&](int node) {
-        return isCluster(node)
-                   ? std::nullopt
-                   : std::optional<ElementSampler>(std::in_place, scene_, mesh_, element(node));
-    };
-    const std::optional<ElementSampler> receiverPoints = elementSampler(receiver),
-                                        sourcePoints = elementSampler(source);
-    const auto sample = [&](int node, const CoverSamples* cover, bool receiving, uint32_t k) {
-        if (cover)
-            return coverSample(node, *cover, k, receiving);
-        Vec2 u = (receiving ? receiverSequence : sourceSequence)[k];  // samplePatch reuses u.x
-        if (!isCluster(node)) {
-            const Vec3 w = sampleUniformTriangle(u);
-            return NodeSample{(receiving ? receiverPoints : sourcePoints)->at(w), element(node),
-                              RadiosityMesh::childAt(w)};
-        }
-        const int patch = clusters_->samplePatch(cluster(node), u.x);
-        return NodeSample{sampleElement(scene_, mesh_, patch, u), patch, -1};
-    };
-    // Whether a cluster's point takes part: the side of its patch facing the other point must be
-    // exposed. The isotropic model already gives a side facing away nothing (the mean projected
-    // area A/4 counts it at zero), so a ray from it, which leaves through the solid behind it
-    // (the far face of a stair tread), must not count as occluded a second time; and a side
-    // facing a sealed interior or covered receives and sends nothing.
-    const auto takesPart = [&](int end, const NodeSample& s, const Vec3& toward) {
-        if (!isCluster(end))
-            return true;
-        const bool side = glm::dot(s.x.n, toward - s.x.p) >= 0.0f;
-        const float a = exposure_->fraction(node(s.element, side));
-        if (a == 0.0f || a == 1.0f)
-            return a == 1.0f;
-        return !exposure_->covered(s.element, s.x, side ? s.x.n : -s.x.n, rays);
-    };
-    // The side normals of element nodes; a cluster has no side (zero: every pair counts).
-    const auto sideNormal = [&](int node) {
-        if (isCluster(node))
-            return Vec3(0.0f);
-        return front(node) ? mesh_.normal(element(node)) : -mesh_.normal(element(node));
-    };
-    const Vec3 nr = sideNormal(receiver), ns = sideNormal(source);
-    Color sum(0.0f), facingSum(0.0f);
-    int k = 0, counted = 0, facing = 0;
-    ChildTally tally;
-    // The form factor integrates only over the pairs of points in front of each other
-    // (areaToAreaFormFactor), so the visible fraction that multiplies it is taken over the same
-    // pairs. Over all pairs it would also count those that leave a side backwards through its own
-    // surface, unoccluded: for an element whose source straddles its plane (the inside of a box
-    // standing on a floor that runs under it) that made the visible fraction of its hidden part
-    // too large and that of its facing part too small. A pair that does not face is known so
-    // before its ray: it is skipped and another drawn (up to kDrawsPerRay per ray), so that the
-    // rays go to the pairs that count. Only if none of the draws faces does the link take all
-    // pairs; before, a straddling pair whose few facing pairs the draws missed took the pairs
-    // behind the plane, often all hidden, and lost the link.
-    bool facingOnly = true;
-    const auto cast = [&](int until) {
-        for (; counted < until && k < kDrawsPerRay * until; ++k) {
-            const NodeSample xs = sample(receiver, receiverCover, true, static_cast<uint32_t>(k)),
-                             ys = sample(source, sourceCover, false, static_cast<uint32_t>(k));
-            const ElementSample &x = xs.x, &y = ys.x;
-            if (!takesPart(receiver, xs, y.p) || !takesPart(source, ys, x.p))
-                continue;
-            const bool isFacing =
-                glm::dot(nr, y.p - x.p) >= 0.0f && glm::dot(ns, x.p - y.p) >= 0.0f;
-            if (facingOnly && !isFacing)
-                continue;
-            ++counted;
-            const Color T = ys.hidden
-                                ? Color(0.0f)
-                                : scene_.transmittance(x.p, x.pError, x.n, y.p, y.pError, y.n);
-            sum += T;
-            if (isFacing) {
-                facingSum += T;
-                ++facing;
-            }
-            if (children)
-                tally.add(xs.child, ys.child, T, isFacing);
-        }
-    };
-    const auto estimate = [&] {
-        if (facing > 0)
-            return facingSum / static_cast<float>(facing);
-        return counted > 0 ? sum / static_cast<float>(counted) : Color(0.0f);
-    };
-    const int firstRays = adaptive ? std::min(n, kFirstVisibilityRays) : n;
-    cast(firstRays);
-    if (counted == 0) {
-        facingOnly = false;
-        k = 0;
-        cast(firstRays);
-    }
-    const Color first = estimate();
-    const float firstSum = first.r + first.g + first.b;
-    const bool agree = firstSum == 0.0f || firstSum == 3.0f;
-    if (!agree)
-        cast(n);
-    rays += static_cast<uint64_t>(counted);
-    if (children) {
-        // Over the same pairs as the link's estimate.
-        children->receiver = ChildVisibility::encode(tally.means(0, facing > 0));
-        children->source = ChildVisibility::encode(tally.means(1, facing > 0));
-    }
-    return estimate();
-}
-
-// The form factor of a link over the exposed part of a partly covered receiver, from F over the
-// whole receiver. The exposed part's visible fraction is visibility()'s, so covered points that
-// shadow rays find hidden are accounted for; but where the source's own plane hides them (the
-// floor under a block, from the block's faces), F over the whole receiver counts them as zero,
-// and the exposed strip along the block's foot got only a fraction a of its light. With the
-// points of the receiver in front of the source's plane taken to share one mean F (its ratio
-// estimator over the receiver's cover samples), the exposed part's F is F P(front | exposed) /
-// P(front): F itself when all points lie on one side.
-float RadiositySolver::exposedFormFactor(int receiver, int source, float F) const {
-    const CoverSamples* cover = exposure_->coverSamplesOf(receiver);
-    if (!cover || isCluster(source) || !(F > 0.0f))
-        return F;
-    const int es = element(source);
-    const Vec3 ns = front(source) ? mesh_.normal(es) : -mesh_.normal(es);
-    const Vec3 origin = mesh_.corners(es)[0];
-    const auto inFrontOfSource = [&](size_t point) {
-        return glm::dot(ns, cover->points[point].p - origin) > 0.0f;
-    };
-    size_t inFront = 0;
-    for (size_t k = 0; k < cover->points.size(); ++k)
-        inFront += inFrontOfSource(k) ? 1 : 0;
-    const std::vector<uint16_t>& exposed = cover->exposed[front(receiver) ? 0 : 1];
-    if (inFront == 0 || inFront == cover->points.size() || exposed.empty())
-        return F;
-    size_t exposedInFront = 0;
-    for (const uint16_t k : exposed)
-        exposedInFront += inFrontOfSource(k) ? 1 : 0;
-    return F * (static_cast<float>(exposedInFront) / static_cast<float>(exposed.size())) /
-           (static_cast<float>(inFront) / static_cast<float>(cover->points.size()));
 }
 
 // --- Direct light of the punctual lights and deposited flux ------------------------------------
@@ -732,19 +301,6 @@ RadiositySolver::LinkErrors RadiositySolver::linkErrors(int source, float spread
             static_cast<double>(Fmax) * (nodeLmax(source) - nodeLmin(source))};
 }
 
-// The receiver-side spread of an unoccluded link from its samples: the centroid's departure from
-// the plane through the corners (zero for a linear F), plus the part of the corners' spread that
-// the positivity limiter takes out of the model.
-float RadiositySolver::KernelSamples::spread(float limiter) const {
-    const float lo = glm::min(corner[0], glm::min(corner[1], corner[2]));
-    const float hi = glm::max(corner[0], glm::max(corner[1], corner[2]));
-    float curvature = std::abs(centroid - cornerMean());
-    for (int i = 0; i < 3; ++i)
-        curvature =
-            glm::max(curvature, std::abs(mid[i] - 0.5f * (corner[i] + corner[(i + 1) % 3])));
-    return curvature + (1.0f - limiter) * (hi - lo);
-}
-
 // HSA91 "Refine": while the larger of a link's errors exceeds the threshold and one of the two
 // elements can still be subdivided, the side at fault is subdivided (the other if it cannot) and
 // its children are refined against the other element; otherwise the pair is linked ("Link").
@@ -762,10 +318,11 @@ void RadiositySolver::refine(std::vector<RefinePair> batch, std::vector<PendingL
         std::vector<char> interacts(batch.size(), 0);
         tbb::parallel_for(size_t(0), batch.size(), [&](size_t i) {
             const RefinePair& p = batch[i];
-            if (isCluster(p.receiver) || isCluster(p.source) || !mayInteract(p.receiver, p.source))
+            if (isCluster(p.receiver) || isCluster(p.source) ||
+                !transfer_->mayInteract(p.receiver, p.source))
                 return;
             interacts[i] = 1;
-            samples[i] = kernelSamples(p.receiver, p.source);
+            samples[i] = transfer_->kernelSamples(p.receiver, p.source);
         });
         std::vector<RefinePair> next;
         for (size_t i = 0; i < batch.size(); ++i) {
@@ -870,12 +427,12 @@ void RadiositySolver::evaluateLinks(const std::vector<PendingLink>& pending) {
         const PendingLink& p = pending[i];
         const int j = reverse[i];
         if (isClusterLink(i)) {
-            const ClusterKernel k = clusterKernel(p.receiver, p.source);
+            const ClusterKernel k = transfer_->clusterKernel(p.receiver, p.source);
             F[i] = k.K;
             Fmax[i] = k.Kmax;
             spread[i] = k.error;
             if (j >= 0) {
-                const ClusterKernel kr = clusterKernel(p.source, p.receiver);
+                const ClusterKernel kr = transfer_->clusterKernel(p.source, p.receiver);
                 Fmax[static_cast<size_t>(j)] = kr.Kmax;
                 spread[static_cast<size_t>(j)] = kr.error;
             }
@@ -886,25 +443,26 @@ void RadiositySolver::evaluateLinks(const std::vector<PendingLink>& pending) {
             if (j >= 0)
                 adaptive = adaptive &&
                            smallTransfer(p.receiver, pending[static_cast<size_t>(j)].samples.max());
-            V[i] = visibility(p.receiver, p.source, rays.local(), adaptive, &childV[i]);
+            V[i] = transfer_->visibility(p.receiver, p.source, rays.local(), adaptive, &childV[i]);
             if (j >= 0) {
                 V[static_cast<size_t>(j)] = V[i];
                 childV[static_cast<size_t>(j)] = childV[i].reversed();
             }
             if (maxComponent(V[i]) <= 0.0f)
                 return;
-            F[i] = exposedFormFactor(p.receiver, p.source,
-                                     formFactor(p.receiver, p.source, &p.samples));
+            F[i] = transfer_->exposedFormFactor(
+                p.receiver, p.source, transfer_->formFactor(p.receiver, p.source, &p.samples));
             Fmax[i] = glm::max(p.samples.max(), F[i]);
             if (j >= 0) {
                 const size_t r = static_cast<size_t>(j);
-                F[r] = F[i] * static_cast<float>(nodeArea(p.receiver) / nodeArea(p.source));
+                F[r] = F[i] * static_cast<float>(transfer_->nodeArea(p.receiver) /
+                                                 transfer_->nodeArea(p.source));
                 Fmax[r] = glm::max(pending[r].samples.max(), F[r]);
             }
             return;
         } else {
-            F[i] = exposedFormFactor(p.receiver, p.source,
-                                     formFactor(p.receiver, p.source, &p.samples));
+            F[i] = transfer_->exposedFormFactor(
+                p.receiver, p.source, transfer_->formFactor(p.receiver, p.source, &p.samples));
             Fmax[i] = glm::max(p.samples.max(), F[i]);
         }
         if (!(F[i] > 0.0f))
@@ -912,12 +470,13 @@ void RadiositySolver::evaluateLinks(const std::vector<PendingLink>& pending) {
         bool adaptive = smallTransfer(p.source, Fmax[i]);
         if (j >= 0) {
             const size_t r = static_cast<size_t>(j);
-            F[r] = F[i] * static_cast<float>(nodeArea(p.receiver) / nodeArea(p.source));
+            F[r] = F[i] * static_cast<float>(transfer_->nodeArea(p.receiver) /
+                                             transfer_->nodeArea(p.source));
             if (!isClusterLink(i))
                 Fmax[r] = glm::max(pending[r].samples.max(), F[r]);
             adaptive = adaptive && smallTransfer(p.receiver, Fmax[r]);
         }
-        V[i] = visibility(p.receiver, p.source, rays.local(), adaptive, &childV[i]);
+        V[i] = transfer_->visibility(p.receiver, p.source, rays.local(), adaptive, &childV[i]);
         if (j >= 0) {
             V[static_cast<size_t>(j)] = V[i];
             childV[static_cast<size_t>(j)] = childV[i].reversed();
@@ -939,7 +498,7 @@ void RadiositySolver::evaluateLinks(const std::vector<PendingLink>& pending) {
             // The oracle's error of a cluster link, on both sides (clusterKernel); a receiving
             // cluster keeps the direction towards the source for its directional push.
             link.spread = link.Fmax = spread[i];
-            const Vec3 toward = nodeCenter(p.source) - nodeCenter(p.receiver);
+            const Vec3 toward = transfer_->nodeCenter(p.source) - transfer_->nodeCenter(p.receiver);
             if (isCluster(p.receiver) && glm::dot(toward, toward) > 0.0f)
                 link.g = glm::normalize(toward);
             return;
@@ -949,7 +508,7 @@ void RadiositySolver::evaluateLinks(const std::vector<PendingLink>& pending) {
             return;
         }
         float limiter = 1.0f;
-        link.g = linearModel(p.receiver, p.samples, link.F, limiter);
+        link.g = transfer_->linearModel(p.receiver, p.samples, link.F, limiter);
         link.spread = p.samples.spread(limiter);
     });
     for (size_t i = 0; i < n; ++i) {
@@ -1008,101 +567,6 @@ std::vector<int> RadiositySolver::nodeChildren(int n) {
     return result;
 }
 
-// Whether a pair with a cluster at one end or both may exchange light at all: a wholly covered
-// element side nothing, and an element side sees nothing of a cluster whose bounding sphere lies
-// wholly behind its plane.
-bool RadiositySolver::mayInteractWithCluster(int receiver, int source) const {
-    if (!exposure_->exposed(receiver) || !exposure_->exposed(source))
-        return false;
-    const auto inFront = [&](int side, int other) {
-        if (isCluster(side))
-            return true;
-        const int e = element(side);
-        const Vec3 n = front(side) ? mesh_.normal(e) : -mesh_.normal(e);
-        return glm::dot(n, nodeCenter(other) - mesh_.centroid(e)) > -nodeRadius(other);
-    };
-    return inFront(receiver, source) && inFront(source, receiver);
-}
-
-// The isotropic cluster model (Sillion 1995, section 4; Smits, Arvo and Greenberg 1994, section
-// 3): a cluster of surface sides of total area A_c and mean radiance L_c radiates like a point
-// source of intensity I = L_c A_c / 4 in every direction (the mean projected area of a randomly
-// oriented one-sided surface of area A is A/4), and receives as a randomly oriented surface: its
-// sides get on average the irradiance I' / (4 r^2) of a point source of intensity I'. With
-// radiance units (H = E / pi, as the solver gathers) and r the distance of the centres:
-//     element i <- cluster S:  K = A_S cos(theta_i) / (4 pi r^2)
-//     cluster R <- element j:  K = A_j cos(theta_j) / (4 pi r^2)
-//     cluster R <- cluster S:  K = A_S / (16 pi r^2)
-// so that A_R K_RS = A_S K_SR for every pair (reciprocity, hence energy balance). A pair may be
-// linked only when the bounding spheres are disjoint and, where one end is an element, the other
-// lies wholly in front of its plane (so the cosine never changes sign over it).
-//
-// The error the oracle weighs (as a radiance per unit source radiance) has three parts:
-//  - Sillion's, the variation of the kernel over the two bounding spheres, from 1/r^2 between
-//    the centres' distance d and the nearest the two can come, d - r_R - r_S:
-//    K ((d / (d - r_R - r_S))^2 - 1);
-//  - the isotropic model's own error, of the order of the transfer K itself;
-//  - for flat clusters (Cluster::flatness up to 1, coplanar patches facing one way), which
-//    radiate and receive from 0 to 4 times the isotropic mean: 3 K flatness.
-// Without the last two the closed furnace box forced into clusters came out 8 % low (1.3 % with
-// the flat term alone at rho = 0.9); with them it keeps the 1 % of the element links, at 5.4 M
-// links instead of 2.9 M in the modern hall (docs/benchmarks.md). `Kmax` is the kernel's largest
-// value (a side facing the source gets 4 times a receiving cluster's mean), for the visibility's
-// shortcut.
-RadiositySolver::ClusterKernel RadiositySolver::clusterKernel(int receiver, int source) const {
-    ClusterKernel k;
-    const Vec3 cr = nodeCenter(receiver), cs = nodeCenter(source);
-    const float rr = nodeRadius(receiver), rs = nodeRadius(source);
-    const float d = glm::distance(cr, cs);
-    float gap = d - rr - rs;
-    // Two small nodes are not split for being close (dense foliage would link every pair of its
-    // leaves): their kernel takes the softened distance sqrt(d^2 + (r_R + r_S)^2), bounded as
-    // the disc approximation of Wallace, Elmquist and Haines 1989 is, and its error is ignored.
-    const bool small = glm::max(rr, rs) < clusterMinRadius_;
-    if (!(gap > 0.0f) && !small)
-        return k;
-    const float dSoft = small && !(gap > 0.0f) ? std::sqrt(d * d + (rr + rs) * (rr + rs)) : d;
-    if (!(gap > 0.0f))
-        gap = dSoft - rr - rs > 0.0f ? dSoft - rr - rs : dSoft;
-    const Vec3 dir = d > 0.0f ? (cs - cr) / d : Vec3(0.0f);
-    const auto sideNormal = [&](int n) {
-        const int e = element(n);
-        return front(n) ? mesh_.normal(e) : -mesh_.normal(e);
-    };
-    // Cosine at an element end, at the centres. Where the other end is not wholly in front of
-    // the element's plane (a chair standing on the floor), the cosine may change sign over it, and
-    // the error is the whole kernel: the oracle refines such a link only where the light it
-    // carries matters, not up front (which would link every element of the floor with every
-    // triangle of every chair on it).
-    float cosine = 1.0f;
-    bool straddles = false;
-    if (!isCluster(receiver)) {
-        cosine = glm::dot(sideNormal(receiver), dir);
-        straddles = !(cosine * d > rs);
-    }
-    if (!isCluster(source)) {
-        cosine = glm::dot(sideNormal(source), -dir);
-        straddles = !(cosine * d > rr);
-    }
-    cosine = glm::max(cosine, 0.0f);
-    const bool clusterToCluster = isCluster(receiver) && isCluster(source);
-    const double As = nodeArea(source);
-    const double K = As * cosine / ((clusterToCluster ? 16.0 : 4.0) * kPi * dSoft * dSoft);
-    const double ratio = small ? 1.0 : static_cast<double>(d) / gap;
-    k.K = static_cast<float>(K);
-    k.Kmax = static_cast<float>(As / (4.0 * kPi * static_cast<double>(gap) * gap) *
-                                (isCluster(receiver) ? 4.0 : 1.0));
-    double flatness = 0.0;
-    for (const int n : {receiver, source}) {
-        if (isCluster(n))
-            flatness = std::max(flatness, static_cast<double>((*clusters_)[cluster(n)].flatness));
-    }
-    k.error =
-        straddles && !small ? k.Kmax : static_cast<float>(K * (ratio * ratio + 3.0 * flatness));
-    k.linkable = true;
-    return k;
-}
-
 // HSA91 "Refine" generalised to clusters (Sillion 1995, section 5): a pair with a cluster at one
 // end or both is linked when clusterKernel allows it and its bound times the source's radiance is
 // under the threshold; otherwise the larger of the two (by bounding radius, HSA91's choice) is
@@ -1118,13 +582,13 @@ void RadiositySolver::refineClusterPair(int receiver, int source, std::vector<Re
         }
         return;
     }
-    if (!mayInteractWithCluster(receiver, source))
+    if (!transfer_->mayInteractWithCluster(receiver, source))
         return;
     // An emitting cluster is never a source: the isotropic model would send the light of a lamp
     // facing down to the ceiling as much as to the floor. Emitters shine through their elements,
     // with their orientation (to clusters of receivers, though).
     const bool emittingSource = isCluster(source) && (*clusters_)[cluster(source)].emits;
-    const ClusterKernel k = clusterKernel(receiver, source);
+    const ClusterKernel k = transfer_->clusterKernel(receiver, source);
     // The same oracle as refineLinks() applies, or a link it takes out for its receiver's sake
     // would come back unchanged every round.
     if (k.linkable && !emittingSource) {
@@ -1134,7 +598,7 @@ void RadiositySolver::refineClusterPair(int receiver, int source, std::vector<Re
         }
     }
     // A cluster can always be split; an element only while it is larger than the cluster.
-    const float rr = nodeRadius(receiver), rs = nodeRadius(source);
+    const float rr = transfer_->nodeRadius(receiver), rs = transfer_->nodeRadius(source);
     bool splitReceiver = rr >= rs;
     if (emittingSource)
         splitReceiver = false;
@@ -1405,7 +869,7 @@ Color RadiositySolver::clusterRadianceToward(int cluster, const Vec3& toward) co
 
 Color RadiositySolver::sourceRadiance(int receiver, const Link& link) const {
     if (isCluster(link.source))
-        return clusterRadianceToward(cluster(link.source), nodeCenter(receiver));
+        return clusterRadianceToward(cluster(link.source), transfer_->nodeCenter(receiver));
     if (link.w[0] < 0.0f)
         return nodeRadiance(link.source);
     const int first = mesh_.firstChild(element(link.source));
@@ -2099,13 +1563,14 @@ std::vector<Color> RadiositySolver::solveFullMatrix() const {
     std::vector<std::vector<std::pair<size_t, Color>>> rows(nodes.size());
     tbb::parallel_for(size_t(0), nodes.size(), [&](size_t i) {
         for (size_t j = 0; j < nodes.size(); ++j) {
-            if (!mayInteract(nodes[i], nodes[j]))
+            if (!transfer_->mayInteract(nodes[i], nodes[j]))
                 continue;
             uint64_t rays = 0;
-            const float F = exposedFormFactor(nodes[i], nodes[j], formFactor(nodes[i], nodes[j]));
+            const float F = transfer_->exposedFormFactor(nodes[i], nodes[j],
+                                                         transfer_->formFactor(nodes[i], nodes[j]));
             if (F <= 0.0f)
                 continue;
-            const Color K = F * visibility(nodes[i], nodes[j], rays, false);
+            const Color K = F * transfer_->visibility(nodes[i], nodes[j], rays, false);
             if (maxComponent(K) > 0.0f)
                 rows[i].emplace_back(j, K);
         }

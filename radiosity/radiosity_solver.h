@@ -72,6 +72,7 @@
 #include "radiosity/coincident_faces.h"
 #include "radiosity/deposited_flux.h"
 #include "radiosity/element_sampling.h"
+#include "radiosity/link_transfer.h"
 #include "radiosity/radiosity_mesh.h"
 #include "radiosity/radiosity_settings.h"
 #include "radiosity/radiosity_solution.h"
@@ -159,46 +160,6 @@ class RadiositySolver : public RadiositySolution {
     PassStats stats() const override;
 
   private:
-    // Point values of the unoccluded form factor from points of a receiver to a source.
-    struct KernelSamples {
-        std::array<float, 3> corner;  // at the receiver's corners (moved 1e-3 inwards)
-        std::array<float, 3> mid;     // at the midpoints of its edges (corner i to i + 1)
-        float centroid;               // at its centroid
-
-        float cornerMean() const { return (corner[0] + corner[1] + corner[2]) / 3.0f; }
-        float max() const {
-            return std::max({centroid, corner[0], corner[1], corner[2], mid[0], mid[1], mid[2]});
-        }
-        float spread(float limiter) const;
-    };
-    // The visible fractions (means over the channels) of the four children of a link's receiver
-    // and of its source (RadiosityMesh::childAt), split yet or not, from the link's own shadow
-    // rays binned by the child each end of a ray falls in; kNoRays where none fell. Stored in
-    // steps of 1/254: they only share the link's transfer among the children (setSourceWeights,
-    // setReceiverWeights).
-    struct ChildVisibility {
-        static constexpr uint8_t kNoRays = 255;
-        std::array<uint8_t, 4> receiver{kNoRays, kNoRays, kNoRays, kNoRays};
-        std::array<uint8_t, 4> source{kNoRays, kNoRays, kNoRays, kNoRays};
-
-        // From the children's fractions, negative where no ray fell in one.
-        static std::array<uint8_t, 4> encode(const std::array<float, 4>& V) {
-            std::array<uint8_t, 4> codes{};
-            for (size_t c = 0; c < V.size(); ++c)
-                codes[c] = V[c] < 0.0f
-                               ? kNoRays
-                               : static_cast<uint8_t>(std::lround(std::min(V[c], 1.0f) * 254.0f));
-            return codes;
-        }
-        // The children's visible fractions, `otherwise` where no ray fell in one.
-        static std::array<float, 4> decode(const std::array<uint8_t, 4>& codes, float otherwise) {
-            std::array<float, 4> V{};
-            for (size_t c = 0; c < V.size(); ++c)
-                V[c] = codes[c] == kNoRays ? otherwise : static_cast<float>(codes[c]) / 254.0f;
-            return V;
-        }
-        ChildVisibility reversed() const { return {source, receiver}; }
-    };
     struct Link {
         int source = -1;  // node gathered from
         float F = 0.0f;   // unoccluded form factor from the receiver to the source (its mean)
@@ -242,14 +203,9 @@ class RadiositySolver : public RadiositySolution {
     const Color& nodeRadiance(int node) const;
     float nodeLmin(int node) const;
     float nodeLmax(int node) const;
-    // Bounding sphere of a node: a cluster's, or an element's about its centroid.
-    Vec3 nodeCenter(int node) const;
-    float nodeRadius(int node) const;
-    double nodeArea(int node) const;  // m²; a cluster's counts both sides of its patches
     Color emission(int node) const;
 
     void resizeArrays();
-    float exposedFormFactor(int receiver, int source, float F) const;
     // A leaf side's radiance from what it gathers, H (cd/m², the exposed part's mean).
     Color leafRadiance(int n, const Color& H) const;
     // Refinement (HSA91 Refine, Link, RefineLinks).
@@ -262,15 +218,6 @@ class RadiositySolver : public RadiositySolution {
     std::vector<int> nodeChildren(int node);
     void refineClusterPair(int receiver, int source, std::vector<RefinePair>& next,
                            std::vector<PendingLink>& pending);
-    // The isotropic cluster kernel of a link with a cluster at one end or both (clusterKernel in
-    // radiosity_solver.cpp): its value at the centres, its largest value, the oracle's error
-    // per unit source radiance, and whether the two may be linked at all.
-    struct ClusterKernel {
-        bool linkable = false;
-        float K = 0.0f, Kmax = 0.0f, error = 0.0f;
-    };
-    ClusterKernel clusterKernel(int receiver, int source) const;
-    bool mayInteractWithCluster(int receiver, int source) const;
     void refine(std::vector<RefinePair> batch, std::vector<PendingLink>& pending);
     LinkErrors linkErrors(int source, float spread, float Fmax) const;
     void evaluateLinks(const std::vector<PendingLink>& pending);
@@ -338,16 +285,6 @@ class RadiositySolver : public RadiositySolution {
     void beginStage(const std::string& name, uint64_t total);
     void advanceStage(uint64_t work);
     void endStage(const std::string& summary);
-    // Form factor and visible fraction between two nodes.
-    bool mayInteract(int receiver, int source) const;
-    // With `samples` (the pair's KernelSamples), a far pair takes a cheaper rule.
-    float formFactor(int receiver, int source, const KernelSamples* samples = nullptr) const;
-    KernelSamples kernelSamples(int receiver, int source) const;
-    Vec3 linearModel(int receiver, const KernelSamples& samples, float F, float& limiter) const;
-    // Adds the shadow rays it casts to `rays`; `adaptive` may stop after a few that agree. With
-    // `children`, also the ends' children's visible fractions.
-    Color visibility(int receiver, int source, uint64_t& rays, bool adaptive,
-                     ChildVisibility* children = nullptr) const;
     bool smallTransfer(int source, float Fmax) const;
 
     const Scene& scene_;
@@ -383,7 +320,7 @@ class RadiositySolver : public RadiositySolution {
     std::vector<Mat3> clusterM_;
     std::vector<float> clusterLmin_, clusterLmax_;
     std::vector<std::vector<Link>> clusterLinks_;
-    float clusterMinRadius_ = 0.0f;  // metres, see clusterKernel
+    std::unique_ptr<LinkTransfer> transfer_;
 
     double threshold_ = 0.0;  // the oracle's absolute threshold (radiance) of this round
     // The receiver-relative criterion's floor per channel (exceedsThreshold); 0 until the first
