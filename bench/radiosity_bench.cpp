@@ -13,6 +13,7 @@
 #include "core/scene.h"
 #include "radiosity/radiosity_mesh.h"
 #include "radiosity/radiosity_solver.h"
+#include "tests/support/full_matrix_solve.h"
 
 #include <chrono>
 #include <cmath>
@@ -85,7 +86,7 @@ void RadiosityCornell(benchmark::State& state) {
     setCounters(state, s);
 }
 
-// The dense solve over the same leaves (RadiositySolver::solveFullMatrix, every pair of leaf
+// The dense solve over the same leaves (tests/support/full_matrix_solve.h, every pair of leaf
 // sides), after the hierarchical solve that made them; only the dense solve is timed.
 void RadiosityCornellFullMatrix(benchmark::State& state) {
     const Scene& scene = cornellScene();
@@ -95,7 +96,7 @@ void RadiosityCornellFullMatrix(benchmark::State& state) {
     solver.solve();
     for (auto _ : state) {
         const auto start = std::chrono::steady_clock::now();
-        benchmark::DoNotOptimize(solver.solveFullMatrix());
+        benchmark::DoNotOptimize(test::solveFullMatrix(solver, mesh));
         state.SetIterationTime(
             std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
     }

@@ -1549,59 +1549,6 @@ void RadiositySolver::throwDivergence(const std::string& stage, double growth) c
     throw SceneError(description.file, mesh.source, message.str());
 }
 
-// --- The dense reference ---------------------------------------------------------------------
-
-std::vector<Color> RadiositySolver::solveFullMatrix() const {
-    std::vector<int> nodes;
-    for (size_t e = 0; e < mesh_.elementCount(); ++e) {
-        if (mesh_.isLeaf(static_cast<int>(e))) {
-            nodes.push_back(node(static_cast<int>(e), true));
-            nodes.push_back(node(static_cast<int>(e), false));
-        }
-    }
-    // Rows of K_ij = F_ij V_ij over all pairs of leaf sides that can see each other.
-    std::vector<std::vector<std::pair<size_t, Color>>> rows(nodes.size());
-    tbb::parallel_for(size_t(0), nodes.size(), [&](size_t i) {
-        for (size_t j = 0; j < nodes.size(); ++j) {
-            if (!transfer_->mayInteract(nodes[i], nodes[j]))
-                continue;
-            uint64_t rays = 0;
-            const float F = transfer_->exposedFormFactor(nodes[i], nodes[j],
-                                                         transfer_->formFactor(nodes[i], nodes[j]));
-            if (F <= 0.0f)
-                continue;
-            const Color K = F * transfer_->visibility(nodes[i], nodes[j], rays, false);
-            if (maxComponent(K) > 0.0f)
-                rows[i].emplace_back(j, K);
-        }
-    });
-    // Gauss-Seidel on L_i = Le_i + rho_i (D_i + sum_j K_ij L_j) (Cohen and Wallace 1993,
-    // chapter 5), from L = Le + rho D.
-    std::vector<Color> x(nodes.size());
-    for (size_t i = 0; i < nodes.size(); ++i)
-        x[i] = leafRadiance(nodes[i], Color(0.0f));
-    for (int sweep = 0; sweep < 1000000; ++sweep) {
-        ChangeSums sums;
-        for (size_t i = 0; i < nodes.size(); ++i) {
-            Color H(0.0f);
-            for (const auto& [j, K] : rows[i])
-                H += K * x[j];
-            const int n = nodes[i];
-            const Color L = leafRadiance(n, H);
-            const double area = mesh_.area(element(n));
-            sums.change += area * channelSum(glm::abs(L - x[i]));
-            sums.norm += area * channelSum(L);
-            x[i] = L;
-        }
-        if (!(sums.change > 1e-9 * sums.norm))
-            break;
-    }
-    std::vector<Color> result(L_.size(), Color(0.0f));
-    for (size_t i = 0; i < nodes.size(); ++i)
-        result[nodes[i]] = x[i];
-    return result;
-}
-
 // --- Statistics --------------------------------------------------------------------------------
 
 PassStats RadiositySolver::stats() const {

@@ -139,11 +139,11 @@ class RadiositySolver : public RadiositySolution {
     Color elementDirect(int element, bool front = true) const;
     Color elementIndirect(int element, bool front = true) const;
 
-    // For comparison: the same equation solved over all pairs of leaf sides of the current mesh
-    // with a dense matrix (Gauss-Seidel until the relative change is below 1e-9), with form
-    // factors and visibility computed as for links. Returns the radiance per node (element side,
-    // index 2 * element + (front ? 0 : 1)), zero for non-leaves. Cost O(leaves^2).
-    std::vector<Color> solveFullMatrix() const;
+    // What the dense reference of the tests reads (tests/support/full_matrix_solve.h): the
+    // transfer the links take between nodes (solver_nodes.h), and a leaf side's radiance from what
+    // it gathers, H (cd/m², its exposed part's mean).
+    const LinkTransfer& linkTransfer() const { return *transfer_; }
+    Color leafRadiance(int node, const Color& H) const;
 
     bool converged() const { return converged_; }
     size_t linkCount() const;
@@ -206,8 +206,6 @@ class RadiositySolver : public RadiositySolution {
     Color emission(int node) const;
 
     void resizeArrays();
-    // A leaf side's radiance from what it gathers, H (cd/m², the exposed part's mean).
-    Color leafRadiance(int n, const Color& H) const;
     // Refinement (HSA91 Refine, Link, RefineLinks).
     bool subdivisible(int element) const;
     int children(int element);

@@ -8,6 +8,7 @@
 #include "radiosity/radiosity_mesh.h"
 #include "radiosity/radiosity_solver.h"
 #include "tests/support/radiosity_scenes.h"
+#include "tests/support/full_matrix_solve.h"
 
 #include <gtest/gtest.h>
 
@@ -229,8 +230,8 @@ TEST(ProgressiveRadiosity, AllMinusIndirectIsTheDirectLightOfTheSources) {
 TEST(ProgressiveRadiosity, AgreesWithFullMatrixSolve) {
     // An open scene: a floor and a wall under a square emitter, with an occluder between them
     // casting a shadow on the floor. The progressive solution against Gauss-Seidel on the full
-    // matrix over the same elements (RadiositySolver::solveFullMatrix: area-to-area form factors,
-    // 16 shadow rays per pair of elements), which converges to the same equation.
+    // matrix over the same elements (tests/support/full_matrix_solve.h: area-to-area form
+    // factors, 16 shadow rays per pair of elements), which converges to the same equation.
     GltfBuilder builder;
     const int white = builder.addMaterial({.baseColor = Color(0.7f)});
     const int red = builder.addMaterial({.baseColor = Color(0.7f, 0.2f, 0.1f)});
@@ -251,7 +252,7 @@ TEST(ProgressiveRadiosity, AgreesWithFullMatrixSolve) {
     solvers.push_back(std::make_unique<ProgressiveSolver>(*scene, mesh, settings));
     settings.adaptiveVisibility = false;
     solvers.push_back(std::make_unique<ProgressiveSolver>(*scene, mesh, settings));
-    const std::vector<Color> full = RadiositySolver(*scene, mesh, {}).solveFullMatrix();
+    const std::vector<Color> full = solveFullMatrix(RadiositySolver(*scene, mesh, {}), mesh);
 
     for (const auto& solver : solvers) {
         solver->solve();
