@@ -7,6 +7,7 @@
 #include "core/sampling.h"
 #include "core/scene.h"
 #include "core/stats.h"
+#include "radiosity/direct_irradiance.h"
 #include "radiosity/element_exposure.h"
 #include "radiosity/element_sampling.h"
 #include "radiosity/form_factor.h"
@@ -73,10 +74,10 @@ RadiositySolver::RadiositySolver(const Scene& scene, RadiosityMesh& mesh,
     : scene_(scene),
       mesh_(mesh),
       settings_(settings),
-      exposure_(std::make_unique<ElementExposure>(scene, mesh)) {
+      exposure_(std::make_unique<ElementExposure>(scene, mesh)),
+      irradiance_(std::make_unique<DirectIrradiance>(scene, mesh, *exposure_,
+                                                     settings.visibilitySamples, deposits)) {
     validateRadiositySettings(settings_);
-    if (!deposits.empty())
-        deposits_ = std::make_unique<DepositedFlux>(mesh_, deposits);
     resizeArrays();
     if (mesh_.patchCount() > static_cast<size_t>(settings_.clusterMinPatches)) {
         clusters_ = std::make_unique<ClusterTree>(mesh_);
@@ -102,9 +103,8 @@ void RadiositySolver::resizeArrays() {
     H_.resize(nodes, Color(0.0f));
     G_.resize(nodes, Mat3(0.0f));
     Hchild_.resize(nodes, {Color(0.0f), Color(0.0f), Color(0.0f), Color(0.0f)});
-    D_.resize(nodes, Color(0.0f));
-    Dspread_.resize(nodes, 0.0f);
     exposure_->resize();
+    irradiance_->resize();
     links_.resize(nodes);
 }
 
@@ -112,7 +112,8 @@ void RadiositySolver::resizeArrays() {
 Color RadiositySolver::leafRadiance(int n, const Color& H) const {
     if (!(exposure_->fraction(n) > 0.0f))
         return emission(n);
-    const Color L = emission(n) + mesh_.rho(element(n)) * (D_[n] + glm::max(H, Color(0.0f)));
+    const Color L =
+        emission(n) + mesh_.rho(element(n)) * (irradiance_->D(n) + glm::max(H, Color(0.0f)));
     if (correction_.empty())
         return L;
     return glm::max(L + correction_[static_cast<size_t>(n)], emission(n));
@@ -150,46 +151,6 @@ float RadiositySolver::nodeLmin(int n) const {
 float RadiositySolver::nodeLmax(int n) const {
     return isCluster(n) ? clusterLmax_[static_cast<size_t>(cluster(n))]
                         : Lmax_[static_cast<size_t>(n)];
-}
-
-// --- Direct light of the punctual lights and deposited flux ------------------------------------
-
-// For each element: the irradiance of every delta light (point, spot, directional) at n
-// stratified points with one shadow ray each, divided by pi, on the side facing the light
-// (punctualDirect, element_sampling.h); its mean is the element's D and its spread (max - min over
-// the points) what refineDirect() weighs. rho D is the reflected
-// radiance of the Lambertian element: the punctual lights "shoot" into the elements before the
-// gather starts (as the sources of the first step of progressive radiosity, Cohen, Chen, Wallace
-// and Greenberg 1988). The deposited flux (the caustic photons', deposited_flux.h) adds its mean
-// irradiance over the element, Phi / A, divided by pi, to D; it leaves the spread alone, so that
-// photon noise does not drive refineDirect().
-void RadiositySolver::computeDirect(const std::vector<int>& elements, bool report) {
-    const std::vector<const Light*> lights = punctualLights(scene_);
-    if ((lights.empty() && !deposits_) || elements.empty())
-        return;
-    if (deposits_)
-        deposits_->update();
-    const int n = settings_.visibilitySamples;
-    parallelForWithProgress(elements.size(), report ? progress_ : nullptr, [&](size_t i) {
-        const int e = elements[i];
-        const PunctualDirect direct =
-            lights.empty() ? PunctualDirect{}
-                           : punctualDirect(scene_, mesh_, e, lights, n,
-                                            ElementExposure::kPointSeed, &exposure_->coincident());
-        for (int side = 0; side < 2; ++side) {
-            const int nd = node(e, side == 0);
-            Color D = direct.D[side];
-            if (deposits_)
-                D += deposits_->flux(e, side == 0) / (kPi * mesh_.area(e));
-            // The mean over the exposed part: the covered points' shadow rays are blocked, and
-            // photons land on the exposed part only.
-            const float exposed = exposure_->fraction(nd);
-            D_[nd] = exposed > 0.0f ? D / exposed : D;
-            Dspread_[nd] = direct.spread[side];
-        }
-    });
-    if (!lights.empty())
-        rays_ += static_cast<uint64_t>(elements.size()) * n * lights.size();
 }
 
 // --- Refinement --------------------------------------------------------------------------------
@@ -261,8 +222,7 @@ int RadiositySolver::children(int e) {
         for (const bool side : {true, false}) {
             L_[node(c, side)] = L_[node(e, side)];
             Lmin_[node(c, side)] = Lmax_[node(c, side)] = maxComponent(L_[node(e, side)]);
-            D_[node(c, side)] = D_[node(e, side)];
-            Dspread_[node(c, side)] = Dspread_[node(e, side)];
+            irradiance_->inherit(node(c, side), node(e, side));
         }
         created_.push_back(c);
     }
@@ -271,7 +231,7 @@ int RadiositySolver::children(int e) {
 
 void RadiositySolver::finishSplits() {
     rays_ += exposure_->compute(created_);
-    computeDirect(created_);
+    rays_ += irradiance_->compute(created_);
     created_.clear();
 }
 
@@ -657,7 +617,8 @@ bool RadiositySolver::refineDirect() {
     bool split = false;
     while (!queue.empty()) {
         for (const int e : queue) {
-            const float spread = glm::max(Dspread_[node(e, true)], Dspread_[node(e, false)]);
+            const float spread =
+                glm::max(irradiance_->spread(node(e, true)), irradiance_->spread(node(e, false)));
             if (spread > threshold_ && mesh_.canSplit(e))
                 children(e);
         }
@@ -1190,8 +1151,8 @@ void RadiositySolver::computeDirectPart() {
     std::vector<float> Lmin = Lmin_, Lmax = Lmax_, clusterLmin = clusterLmin_,
                        clusterLmax = clusterLmax_;
     // The emission at every node (a parent's: its leaves' area mean, as a source shows it).
-    std::vector<Color> D(D_.size(), Color(0.0f));
-    std::swap(D, D_);
+    std::vector<Color> D(L_.size(), Color(0.0f));
+    irradiance_->swap(D);
     std::fill(H_.begin(), H_.end(), Color(0.0f));
     std::fill(Hchild_.begin(), Hchild_.end(),
               std::array<Color, 4>{Color(0.0f), Color(0.0f), Color(0.0f), Color(0.0f)});
@@ -1200,7 +1161,7 @@ void RadiositySolver::computeDirectPart() {
     std::fill(clusterW_.begin(), clusterW_.end(), Mat3(0.0f));
     std::fill(clusterQ_.begin(), clusterQ_.end(), SecondMoment{});
     pushPullAll();
-    std::swap(D, D_);
+    irradiance_->swap(D);
     // Every node gathers from the emission; then Le + rho (D + H_e) at the leaves.
     tbb::parallel_for(size_t(0), links_.size(), [&](size_t n) { gather(static_cast<int>(n)); });
     tbb::parallel_for(size_t(0), clusterLinks_.size(),
@@ -1433,7 +1394,7 @@ void RadiositySolver::solve(SolveProgress* progress) {
     const bool punctual = !punctualLights(scene_).empty();
     if (punctual)
         beginStage("direct light of the punctual lights", leaves.size());
-    computeDirect(leaves, true);
+    rays_ += irradiance_->compute(leaves, progress_);
     pushPullAll();
     refineDirect();
     pushPullAll();
@@ -1573,7 +1534,8 @@ PassStats RadiositySolver::stats() const {
             indirectFlux += kPi * area * luminance(elementIndirect(element, side));
         }
     }
-    const float depositedFlux = deposits_ ? luminance(deposits_->totalPower()) : 0.0f;
+    const DepositedFlux* deposits = irradiance_->deposits();
+    const float depositedFlux = deposits ? luminance(deposits->totalPower()) : 0.0f;
     return {{"patches", std::to_string(mesh.patches)},
             {"elements", std::to_string(mesh.elements)},
             {"leaves", std::to_string(mesh.leaves)},
@@ -1589,7 +1551,7 @@ PassStats RadiositySolver::stats() const {
             {"error_bound", formatStat(last.errorBound)},
             {"converged", converged_ ? "yes" : "no"},
             {"rays", std::to_string(rays_)},
-            {"deposited_photons", std::to_string(deposits_ ? deposits_->count() : 0)},
+            {"deposited_photons", std::to_string(deposits ? deposits->count() : 0)},
             {"deposited_flux_lm", formatStat(depositedFlux)},
             {"direct_flux_lm", formatStat(directFlux)},
             {"indirect_flux_lm", formatStat(indirectFlux)},

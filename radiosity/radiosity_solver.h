@@ -94,6 +94,7 @@
 
 namespace penumbra {
 
+class DirectIrradiance;
 class ElementExposure;
 class Scene;
 struct MeshedHit;
@@ -226,8 +227,6 @@ class RadiositySolver : public RadiositySolution {
     bool refineDirect();
     bool subdivideByContrast();
     void updateThresholds(bool relativeFloor);
-    // With `report`, advances the current stage by one per element.
-    void computeDirect(const std::vector<int>& elements, bool report = false);
     // Solution (HSA91 GatherRad, PushPullRad).
     void setSourceWeights(int receiver, Link& link) const;
     void setReceiverWeights(int receiver, Link& link) const;
@@ -289,7 +288,7 @@ class RadiositySolver : public RadiositySolution {
     RadiosityMesh& mesh_;
     RadiositySettings settings_;
     std::unique_ptr<ElementExposure> exposure_;
-    std::unique_ptr<DepositedFlux> deposits_;  // null without deposits
+    std::unique_ptr<DirectIrradiance> irradiance_;
 
     // Per node (2 * element + side).
     std::vector<Color> L_;  // radiance leaving, emission included
@@ -299,10 +298,7 @@ class RadiositySolver : public RadiositySolution {
     // children's visibility of the sources (Link::u); sums to zero over the children.
     std::vector<std::array<Color, 4>> Hchild_;
     std::vector<float> Lmin_, Lmax_;  // range of max(L) over the node's leaves
-    // Punctual direct and deposited irradiance / pi, its exposed part's mean.
-    std::vector<Color> D_;
-    std::vector<float> Dspread_;  // spread of max(D) over the element's sample points
-    std::vector<Color> direct_;   // the first reflection of the sources (elementDirect)
+    std::vector<Color> direct_;       // the first reflection of the sources (elementDirect)
     // What the final gather adds to each leaf side's radiance beyond the links' transfer
     // (finalGather in radiosity_solver.cpp); empty without a final gather.
     std::vector<Color> correction_;

@@ -1,0 +1,66 @@
+// The punctual lights' direct light and the deposited flux on the element sides.
+#include "radiosity/direct_irradiance.h"
+
+#include "core/scene.h"
+#include "radiosity/element_sampling.h"
+#include "radiosity/solver_nodes.h"
+
+namespace penumbra {
+
+DirectIrradiance::DirectIrradiance(const Scene& scene, const RadiosityMesh& mesh,
+                                   const ElementExposure& exposure, int samples,
+                                   const std::vector<FluxDeposit>& deposits)
+    : scene_(scene), mesh_(mesh), exposure_(exposure), samples_(samples) {
+    if (!deposits.empty())
+        deposits_ = std::make_unique<DepositedFlux>(mesh_, deposits);
+}
+
+void DirectIrradiance::resize() {
+    const size_t nodes = 2 * mesh_.elementCount();
+    D_.resize(nodes, Color(0.0f));
+    Dspread_.resize(nodes, 0.0f);
+}
+
+void DirectIrradiance::inherit(int childNode, int parentNode) {
+    D_[static_cast<size_t>(childNode)] = D_[static_cast<size_t>(parentNode)];
+    Dspread_[static_cast<size_t>(childNode)] = Dspread_[static_cast<size_t>(parentNode)];
+}
+
+// For each element: the irradiance of every delta light (point, spot, directional) at n
+// stratified points with one shadow ray each, divided by pi, on the side facing the light
+// (punctualDirect, element_sampling.h); its mean is the element's D and its spread (max - min over
+// the points) what the solver's refineDirect() weighs. rho D is the reflected
+// radiance of the Lambertian element: the punctual lights "shoot" into the elements before the
+// gather starts (as the sources of the first step of progressive radiosity, Cohen, Chen, Wallace
+// and Greenberg 1988). The deposited flux (the caustic photons', deposited_flux.h) adds its mean
+// irradiance over the element, Phi / A, divided by pi, to D; it leaves the spread alone, so that
+// photon noise does not drive refineDirect().
+uint64_t DirectIrradiance::compute(const std::vector<int>& elements, SolveProgress* progress) {
+    const std::vector<const Light*> lights = punctualLights(scene_);
+    if ((lights.empty() && !deposits_) || elements.empty())
+        return 0;
+    if (deposits_)
+        deposits_->update();
+    const int n = samples_;
+    parallelForWithProgress(elements.size(), progress, [&](size_t i) {
+        const int e = elements[i];
+        const PunctualDirect direct =
+            lights.empty() ? PunctualDirect{}
+                           : punctualDirect(scene_, mesh_, e, lights, n,
+                                            ElementExposure::kPointSeed, &exposure_.coincident());
+        for (int side = 0; side < 2; ++side) {
+            const int nd = node(e, side == 0);
+            Color D = direct.D[side];
+            if (deposits_)
+                D += deposits_->flux(e, side == 0) / (kPi * mesh_.area(e));
+            // The mean over the exposed part: the covered points' shadow rays are blocked, and
+            // photons land on the exposed part only.
+            const float exposed = exposure_.fraction(nd);
+            D_[nd] = exposed > 0.0f ? D / exposed : D;
+            Dspread_[nd] = direct.spread[side];
+        }
+    });
+    return lights.empty() ? 0 : static_cast<uint64_t>(elements.size()) * n * lights.size();
+}
+
+}  // namespace penumbra
