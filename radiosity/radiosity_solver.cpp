@@ -12,8 +12,10 @@
 #include "radiosity/element_sampling.h"
 #include "radiosity/form_factor.h"
 #include "radiosity/gather_divergence.h"
+#include "radiosity/link_hierarchy.h"
 #include "radiosity/link_transfer.h"
 #include "radiosity/meshed_hit.h"
+#include "radiosity/radiance_hierarchy.h"
 #include "radiosity/solver_nodes.h"
 
 #include <tbb/combinable.h>
@@ -33,11 +35,6 @@
 namespace penumbra {
 
 namespace {
-
-// Sum of the three channels, the norm the convergence test uses per element.
-double channelSum(const Color& c) {
-    return static_cast<double>(c.r) + c.g + c.b;
-}
 
 // The final gather's sampler seed, apart from those of the links' visibility (link_transfer.cpp)
 // and of the element points (ElementExposure::kPointSeed), so that they never share a sequence.
@@ -78,79 +75,35 @@ RadiositySolver::RadiositySolver(const Scene& scene, RadiosityMesh& mesh,
       irradiance_(std::make_unique<DirectIrradiance>(scene, mesh, *exposure_,
                                                      settings.visibilitySamples, deposits)) {
     validateRadiositySettings(settings_);
-    resizeArrays();
-    if (mesh_.patchCount() > static_cast<size_t>(settings_.clusterMinPatches)) {
+    if (mesh_.patchCount() > static_cast<size_t>(settings_.clusterMinPatches))
         clusters_ = std::make_unique<ClusterTree>(mesh_);
-        const size_t n = clusters_->size();
-        clusterL_.assign(n, Color(0.0f));
-        clusterH_.assign(n, Color(0.0f));
-        clusterW_.assign(n, Mat3(0.0f));
-        clusterQ_.assign(n, SecondMoment{});
-        clusterM_.assign(n, Mat3(0.0f));
-        clusterLmin_.assign(n, 0.0f);
-        clusterLmax_.assign(n, 0.0f);
-        clusterLinks_.resize(n);
-    }
     transfer_ =
         std::make_unique<LinkTransfer>(scene_, mesh_, *exposure_, clusters_.get(), settings_);
+    links_ = std::make_unique<LinkHierarchy>(mesh_, *exposure_, clusters_ ? clusters_->size() : 0);
+    radiance_ = std::make_unique<RadianceHierarchy>(
+        mesh_, *exposure_, *irradiance_, clusters_.get(), *transfer_, *links_, settings_.iteration);
+    resizeArrays();
 }
 
 void RadiositySolver::resizeArrays() {
-    const size_t nodes = 2 * mesh_.elementCount();
-    L_.resize(nodes, Color(0.0f));
-    Lmin_.resize(nodes, 0.0f);
-    Lmax_.resize(nodes, 0.0f);
-    H_.resize(nodes, Color(0.0f));
-    G_.resize(nodes, Mat3(0.0f));
-    Hchild_.resize(nodes, {Color(0.0f), Color(0.0f), Color(0.0f), Color(0.0f)});
     exposure_->resize();
     irradiance_->resize();
-    links_.resize(nodes);
-}
-
-// L = Le + rho (D + H) over the exposed part; a wholly covered leaf side receives nothing.
-Color RadiositySolver::leafRadiance(int n, const Color& H) const {
-    if (!(exposure_->fraction(n) > 0.0f))
-        return emission(n);
-    const Color L =
-        emission(n) + mesh_.rho(element(n)) * (irradiance_->D(n) + glm::max(H, Color(0.0f)));
-    if (correction_.empty())
-        return L;
-    return glm::max(L + correction_[static_cast<size_t>(n)], emission(n));
+    links_->resize();
+    radiance_->resize();
 }
 
 RadiositySolver::~RadiositySolver() = default;
 
 Color RadiositySolver::elementRadiance(int e, bool side) const {
-    return L_[node(e, side)];
+    return radiance_->L(node(e, side));
 }
 
-std::vector<RadiositySolver::Link>& RadiositySolver::linksOf(int n) {
-    return isCluster(n) ? clusterLinks_[static_cast<size_t>(cluster(n))]
-                        : links_[static_cast<size_t>(n)];
-}
-
-const Color& RadiositySolver::nodeRadiance(int n) const {
-    return isCluster(n) ? clusterL_[static_cast<size_t>(cluster(n))] : L_[static_cast<size_t>(n)];
+Color RadiositySolver::leafRadiance(int n, const Color& H) const {
+    return radiance_->leafRadiance(n, H);
 }
 
 size_t RadiositySolver::linkCount() const {
-    size_t count = 0;
-    for (const auto& links : links_)
-        count += links.size();
-    for (const auto& links : clusterLinks_)
-        count += links.size();
-    return count;
-}
-
-float RadiositySolver::nodeLmin(int n) const {
-    return isCluster(n) ? clusterLmin_[static_cast<size_t>(cluster(n))]
-                        : Lmin_[static_cast<size_t>(n)];
-}
-
-float RadiositySolver::nodeLmax(int n) const {
-    return isCluster(n) ? clusterLmax_[static_cast<size_t>(cluster(n))]
-                        : Lmax_[static_cast<size_t>(n)];
+    return links_->linkCount();
 }
 
 // --- Refinement --------------------------------------------------------------------------------
@@ -165,10 +118,10 @@ void RadiositySolver::updateThresholds(bool relativeFloor) {
     Color perChannel(0.0f);
     for (size_t p = 0; p < mesh_.patchCount(); ++p) {
         const int e = static_cast<int>(p);
-        const Color L = L_[node(e, true)] + L_[node(e, false)];
+        const Color &Lfront = radiance_->L(node(e, true)), &Lback = radiance_->L(node(e, false));
+        const Color L = Lfront + Lback;
         area += mesh_.area(e);
-        largest += mesh_.area(e) * static_cast<double>(maxComponent(L_[node(e, true)]) +
-                                                       maxComponent(L_[node(e, false)]));
+        largest += mesh_.area(e) * static_cast<double>(maxComponent(Lfront) + maxComponent(Lback));
         perChannel += mesh_.area(e) * L;
     }
     if (!(area > 0.0))
@@ -193,12 +146,12 @@ bool RadiositySolver::exceedsThreshold(int receiver, int source, const LinkError
         return true;
     if (isCluster(receiver) || !(maxComponent(relativeFloor_) > 0.0f))
         return false;
-    const Color Ls = nodeRadiance(source);
+    const Color Ls = radiance_->nodeRadiance(source);
     const float LsMax = maxComponent(Ls);
     if (!(LsMax > 0.0f))
         return false;
     const Color rho = mesh_.rho(element(receiver));
-    const Color Lr = nodeRadiance(receiver);
+    const Color Lr = radiance_->nodeRadiance(receiver);
     for (int c = 0; c < 3; ++c) {
         const double reflected = error * static_cast<double>(rho[c] * Ls[c] / LsMax);
         if (reflected > settings_.epsilon * static_cast<double>(glm::max(Lr[c], relativeFloor_[c])))
@@ -220,8 +173,7 @@ int RadiositySolver::children(int e) {
     resizeArrays();
     for (int c = first; c < first + RadiosityMesh::kChildren; ++c) {
         for (const bool side : {true, false}) {
-            L_[node(c, side)] = L_[node(e, side)];
-            Lmin_[node(c, side)] = Lmax_[node(c, side)] = maxComponent(L_[node(e, side)]);
+            radiance_->inherit(node(c, side), node(e, side));
             irradiance_->inherit(node(c, side), node(e, side));
         }
         created_.push_back(c);
@@ -257,8 +209,9 @@ void RadiositySolver::refineAndLink(std::vector<RefinePair> pairs) {
 // element gathers 1.9 times what it should from links that each carry under 1 %.
 RadiositySolver::LinkErrors RadiositySolver::linkErrors(int source, float spread,
                                                         float Fmax) const {
-    return {static_cast<double>(spread) * maxComponent(nodeRadiance(source)),
-            static_cast<double>(Fmax) * (nodeLmax(source) - nodeLmin(source))};
+    return {
+        static_cast<double>(spread) * maxComponent(radiance_->nodeRadiance(source)),
+        static_cast<double>(Fmax) * (radiance_->nodeLmax(source) - radiance_->nodeLmin(source))};
 }
 
 // HSA91 "Refine": while the larger of a link's errors exceeds the threshold and one of the two
@@ -320,7 +273,8 @@ void RadiositySolver::refine(std::vector<RefinePair> batch, std::vector<PendingL
 // lets the shadow of a block be missed: 12 % of the mean on a leaf against the dense solve.)
 bool RadiositySolver::smallTransfer(int source, float Fmax) const {
     const double mean = threshold_ / settings_.epsilon;
-    return Fmax * std::max(mean, static_cast<double>(maxComponent(nodeRadiance(source)))) <=
+    return Fmax *
+               std::max(mean, static_cast<double>(maxComponent(radiance_->nodeRadiance(source)))) <=
            threshold_;
 }
 
@@ -473,7 +427,7 @@ void RadiositySolver::evaluateLinks(const std::vector<PendingLink>& pending) {
     });
     for (size_t i = 0; i < n; ++i) {
         if (maxComponent(evaluated[i].K) > 0.0f)
-            linksOf(pending[i].receiver).push_back(evaluated[i]);
+            links_->linksOf(pending[i].receiver).push_back(evaluated[i]);
     }
     rays_ += rays.combine(std::plus<uint64_t>());
     secondsLinks_ += secondsSince(start);
@@ -583,7 +537,7 @@ bool RadiositySolver::refineLinks() {
     updateThresholds(true);
     std::vector<std::pair<int, Link>> candidates;
     const auto collect = [&](int receiver) {
-        std::erase_if(linksOf(receiver), [&](const Link& link) {
+        std::erase_if(links_->linksOf(receiver), [&](const Link& link) {
             const LinkErrors errors = linkErrors(link.source, link.spread, link.Fmax);
             const bool refinable = exceedsThreshold(receiver, link.source, errors) &&
                                    (canSplitNode(receiver) || canSplitNode(link.source));
@@ -592,9 +546,9 @@ bool RadiositySolver::refineLinks() {
             return refinable;
         });
     };
-    for (size_t n = 0; n < links_.size(); ++n)
+    for (size_t n = 0; n < links_->elementSides(); ++n)
         collect(static_cast<int>(n));
-    for (size_t c = 0; c < clusterLinks_.size(); ++c)
+    for (size_t c = 0; c < links_->clusters(); ++c)
         collect(clusterNode(static_cast<int>(c)));
     std::vector<RefinePair> pairs;
     for (const auto& [receiver, link] : candidates)
@@ -648,7 +602,8 @@ bool RadiositySolver::subdivideByContrast() {
     }
     const auto reflected = [&](int e, bool side) {
         const int n = node(e, side);
-        return static_cast<double>(maxComponent(glm::max(L_[n] - emission(n), Color(0.0f))));
+        return static_cast<double>(
+            maxComponent(glm::max(radiance_->L(n) - radiance_->emission(n), Color(0.0f))));
     };
     // Only exposed leaf sides show light to compare (ElementExposure).
     const auto exposed = [&](int e, bool side) {
@@ -682,376 +637,15 @@ bool RadiositySolver::subdivideByContrast() {
     for (const int e : marked) {
         const int first = children(e);
         for (const bool side : {true, false}) {
-            for (const Link& link : links_[static_cast<size_t>(node(e, side))]) {
+            for (const Link& link : links_->linksOf(node(e, side))) {
                 for (int c = first; c < first + RadiosityMesh::kChildren; ++c)
                     pairs.push_back({node(c, side), link.source});
             }
-            links_[static_cast<size_t>(node(e, side))].clear();
+            links_->linksOf(node(e, side)).clear();
         }
     }
     refineAndLink(std::move(pairs));
     return !marked.empty();
-}
-
-// --- Gather and push-pull ----------------------------------------------------------------------
-
-Color RadiositySolver::emission(int n) const {
-    const int e = element(n);
-    return front(n) || mesh_.twoSided(e) ? mesh_.Le(e) : Color(0.0f);
-}
-
-namespace {
-
-// Whether a link's visible fraction is below 1 in some channel (K = F V).
-bool partlyOccluded(const Color& K, float F) {
-    return glm::min(K.r, glm::min(K.g, K.b)) < F;
-}
-
-// A link's visible fraction, the mean over the channels.
-float meanVisibility(const Color& K, float F) {
-    return (K.r + K.g + K.b) / (3.0f * F);
-}
-
-}  // namespace
-
-// The source side of a link at first order: when the source has children, its radiance is not
-// uniform, and the light the receiver gathers weighs each child by its share of the form factor,
-// w_c = F(x -> child c) / sum_c F(x -> child c) at the receiver's centroid x (exact
-// point-to-polygon values, form_factor.h), rather than by its area. The mean radiance alone leaves
-// the first-order term of the source's gradient against the kernel's: measured over a lit room,
-// 1 % of the interreflected light lost at epsilon = 0.01. This is the source side of a two-level
-// quadrature of the transfer (Cohen and Wallace 1993, chapter 4, "area-to-area form factors by
-// numerical integration"), and for a partly occluded link the quadrature takes each child's own
-// visible fraction V_c too (from the link's own rays, Link::childV): w_c = F_c V_c / sum_c F_c V_c.
-// With the link's one visible fraction
-// instead, the children the receiver cannot see (the floor under a block, in its shadow, dark)
-// counted as much as the lit ones it sees, and the link carried their mean: the correlation of
-// the source's radiance with its visibility was lost, always in the same direction, as what is
-// hidden from a receiver is mostly also hidden from the light. That was half of the hierarchical
-// solution's deficit against the dense solve on the same leaves on the Cornell box (floor -0.8 %,
-// back wall -0.5 %, ceiling -0.45 %, block faces to -3 %).
-void RadiositySolver::setSourceWeights(int receiver, Link& link) const {
-    if (isCluster(receiver) || isCluster(link.source))
-        return;
-    const int es = element(link.source);
-    if (mesh_.isLeaf(es))
-        return;
-    const int er = element(receiver);
-    const Vec3 nr = front(receiver) ? mesh_.normal(er) : -mesh_.normal(er);
-    const Vec3 ns = front(link.source) ? mesh_.normal(es) : -mesh_.normal(es);
-    const Vec3 x = mesh_.centroid(er);
-    // pointToPolygonFormFactor() is two-sided in the polygon: seen from behind, nothing.
-    if (!(glm::dot(ns, x - mesh_.corners(es)[0]) > 0.0f))
-        return;
-    const int first = mesh_.firstChild(es);
-    std::array<double, 4> F{};
-    for (int c = 0; c < RadiosityMesh::kChildren; ++c)
-        F[c] = pointToPolygonFormFactor(x, nr, mesh_.corners(first + c));
-    if (partlyOccluded(link.K, link.F)) {
-        const std::array<float, 4> V =
-            ChildVisibility::decode(link.childV.source, meanVisibility(link.K, link.F));
-        std::array<double, 4> FV{};
-        for (int c = 0; c < RadiosityMesh::kChildren; ++c)
-            FV[c] = F[c] * V[c];
-        // The children the rays saw lit have no form factor at the receiver's centroid, though
-        // the link carries light: keep the form factor's shares.
-        if (FV[0] + FV[1] + FV[2] + FV[3] > 0.0)
-            F = FV;
-    }
-    const double sum = F[0] + F[1] + F[2] + F[3];
-    if (!(sum > 0.0))
-        return;
-    for (int c = 0; c < RadiosityMesh::kChildren; ++c)
-        link.w[c] = static_cast<float>(F[c] / sum);
-}
-
-// The receiver side of the same correlation: a link gathered by an element side with children
-// gives them its transfer in proportion to their own visible fractions of the source (over their
-// exposed parts, from the link's own rays: visibility(), Link::childV), u_c = V_c sum_k a_k / sum_k
-// a_k V_k with a_k the children's exposed fractions (the children have equal areas, so the shares
-// keep the transfer over the exposed area, sum_c a_c u_c = sum_c a_c), rather than evenly. Evenly,
-// the children hidden from the source (under a block standing on the floor, above the light that
-// hangs 0.1 mm under the Cornell ceiling) received light they cannot have, which is lost, since
-// they show it to nobody, and the children that see the source got too little. An unoccluded link,
-// or one whose children all miss the source, shares evenly (u = 1). Only one level down: the
-// children pass what they get evenly to their own children.
-void RadiositySolver::setReceiverWeights(int receiver, Link& link) const {
-    if (isCluster(receiver) || isCluster(link.source) || mesh_.isLeaf(element(receiver)))
-        return;
-    link.u = {1.0f, 1.0f, 1.0f, 1.0f};
-    if (!partlyOccluded(link.K, link.F))
-        return;
-    const std::array<float, 4> V =
-        ChildVisibility::decode(link.childV.receiver, meanVisibility(link.K, link.F));
-    const int first = mesh_.firstChild(element(receiver));
-    float sum = 0.0f, exposed = 0.0f;
-    for (int c = 0; c < RadiosityMesh::kChildren; ++c) {
-        const float a = exposure_->fraction(node(first + c, front(receiver)));
-        sum += a * V[c];
-        exposed += a;
-    }
-    if (!(sum > 0.0f))
-        return;
-    for (int c = 0; c < RadiosityMesh::kChildren; ++c)
-        link.u[c] = V[c] * exposed / sum;
-}
-
-// Sets the child weights of links whose source or receiver has been split since they were made.
-void RadiositySolver::updateChildWeights() {
-    tbb::parallel_for(size_t(0), links_.size(), [&](size_t n) {
-        for (Link& link : links_[n]) {
-            if (link.w[0] < 0.0f)
-                setSourceWeights(static_cast<int>(n), link);
-            if (link.u[0] < 0.0f)
-                setReceiverWeights(static_cast<int>(n), link);
-        }
-    });
-}
-
-// A source cluster's radiance towards the receiver, to first order in the direction (the
-// source-side counterpart of sweepCluster's directional push): a side of area A, normal n and
-// radiance L radiates the intensity A L max(0, n.d) towards d, 1/4 + n.d / 2 in first-order
-// spherical harmonics (Ramamoorthi and Hanrahan 2001), so the cluster radiates
-// I(d) = A_c L_c / 4 + M.d / 2 with M = sum over its patches of A (L_front - L_back) n
-// (clusterM_), i.e. the isotropic model's mean radiance L_c (Sillion 1995) plus 2 M.d / A_c. The
-// isotropic model alone shows every viewer a quarter of a flat cluster's one-sided area: the lit
-// side of a wall seen from the room it lights at cos = 0.5 radiates twice what the model sends,
-// so in an interior, where every receiver sees the walls' lit sides, the clusters' links carried
-// too little (the modern hall's indirect light 13 % low; docs/benchmarks.md).
-Color RadiositySolver::clusterRadianceToward(int cluster, const Vec3& toward) const {
-    const Vec3 d = toward - (*clusters_)[cluster].center;
-    const float length = glm::length(d);
-    const size_t c = static_cast<size_t>(cluster);
-    if (!(length > 0.0f))
-        return clusterL_[c];
-    const float scale = 2.0f / static_cast<float>((*clusters_)[cluster].area);
-    return glm::max(clusterL_[c] + scale * (clusterM_[c] * (d / length)), Color(0.0f));
-}
-
-Color RadiositySolver::sourceRadiance(int receiver, const Link& link) const {
-    if (isCluster(link.source))
-        return clusterRadianceToward(cluster(link.source), transfer_->nodeCenter(receiver));
-    if (link.w[0] < 0.0f)
-        return nodeRadiance(link.source);
-    const int first = mesh_.firstChild(element(link.source));
-    const bool side = front(link.source);
-    Color L(0.0f);
-    for (int c = 0; c < RadiosityMesh::kChildren; ++c)
-        L += link.w[c] * L_[node(first + c, side)];
-    return L;
-}
-
-// HSA91 "GatherRad" with a linear push: a node gathers through its own links the radiance
-// sum_j K_ij L_j at its centroid, and its gradient over the node, sum_j K_ij L_j g_ij (the
-// receiver's rho is applied at the leaves, after the push, so that children keep their own rho).
-void RadiositySolver::gather(int n) {
-    Color H(0.0f);
-    Mat3 G(0.0f);
-    std::array<Color, 4> Hchild{Color(0.0f), Color(0.0f), Color(0.0f), Color(0.0f)};
-    for (const Link& link : links_[n]) {
-        const Color transfer = link.K * sourceRadiance(n, link);
-        H += transfer;
-        G += glm::outerProduct(transfer, link.g);
-        if (link.u[0] >= 0.0f) {
-            for (int c = 0; c < RadiosityMesh::kChildren; ++c)
-                Hchild[c] += (link.u[c] - 1.0f) * transfer;
-        }
-    }
-    H_[n] = H;
-    G_[n] = G;
-    Hchild_[n] = Hchild;
-}
-
-// A cluster gathers its mean H = sum K L, the vector W = sum K L d of the directions d towards
-// the sources (Link::g) and their second moment Q = sum K L d d^T, for the directional push of
-// sweepCluster.
-void RadiositySolver::gatherCluster(int c) {
-    Color H(0.0f);
-    Mat3 W(0.0f);
-    SecondMoment Q{};
-    for (const Link& link : clusterLinks_[static_cast<size_t>(c)]) {
-        const Color transfer = link.K * sourceRadiance(clusterNode(c), link);
-        H += transfer;
-        W += glm::outerProduct(transfer, link.g);
-        Q.add(transfer, link.g);
-    }
-    clusterH_[static_cast<size_t>(c)] = H;
-    clusterW_[static_cast<size_t>(c)] = W;
-    clusterQ_[static_cast<size_t>(c)] = Q;
-}
-
-void RadiositySolver::gatherTree(int n) {
-    gather(n);
-    const int e = element(n);
-    if (mesh_.isLeaf(e))
-        return;
-    const int first = mesh_.firstChild(e);
-    for (int c = first; c < first + RadiosityMesh::kChildren; ++c)
-        gatherTree(node(c, front(n)));
-}
-
-// HSA91 "PushPullRad", with the gathered radiance pushed down as a linear function instead of a
-// constant: a child receives its parent's function, evaluated at its own centroid, where a linear
-// function takes its mean over the child; so the push moves no energy between children and still
-// follows the first-order variation of each link's form factor over its receiver (a linear basis
-// on the receiver side only; Gortler, Schroeder, Cohen and Hanrahan 1993, "Wavelet Radiosity",
-// use higher-order bases on both). A partly occluded link's transfer is shared by the visible
-// fractions of the children instead (Hchild_, setReceiverWeights), which keeps its total too. Each
-// leaf forms L = Le + rho (D + H); a parent's radiance is the mean of its children's over its
-// exposed part (exposedMean): H, D and L are all means over the exposed parts, which alone send
-// and receive light, so that a leaf straddling the foot of a block shows its lit part's light,
-// and as a source (whose links' visible fractions count its covered part as hidden) sends it.
-// Also pulls the range of max(L) over each node's leaves for the oracle, and adds the leaves'
-// change to `sums`.
-Color RadiositySolver::pushPull(int n, const Color& Hdown, const Mat3& Gdown, ChangeSums& sums) {
-    const int e = element(n);
-    const Color H = H_[n] + Hdown;
-    if (mesh_.isLeaf(e)) {
-        // The limiter keeps every link's function non-negative; max() only absorbs rounding.
-        const Color L = leafRadiance(n, H);
-        const double area = mesh_.area(e);
-        sums.change += area * channelSum(glm::abs(L - L_[n]));
-        sums.norm += area * channelSum(L);
-        L_[n] = L;
-        Lmin_[n] = Lmax_[n] = maxComponent(L);
-        return L;
-    }
-    const Mat3 G = G_[n] + Gdown;
-    const Vec3 center = mesh_.centroid(e);
-    std::array<Color, 4> Lchild;
-    float lo = std::numeric_limits<float>::infinity(), hi = 0.0f;
-    const int first = mesh_.firstChild(e);
-    for (int c = first; c < first + RadiosityMesh::kChildren; ++c) {
-        const int child = node(c, front(n));
-        Lchild[c - first] =
-            pushPull(child, H + Hchild_[n][c - first] + G * (mesh_.centroid(c) - center), G, sums);
-        lo = glm::min(lo, Lmin_[child]);
-        hi = glm::max(hi, Lmax_[child]);
-    }
-    L_[n] = exposure_->exposedMean(n, Lchild);
-    Lmin_[n] = lo;
-    Lmax_[n] = hi;
-    return L_[n];
-}
-
-// The cluster tree's push-pull (Sillion 1995, section 5): what a cluster gathered, plus what its
-// ancestors gathered, goes to every element side inside it, and its radiance is the area-weighted
-// mean of its children's. With gatherNow, each cluster and each patch tree gathers just before it
-// is pushed (the Gauss-Seidel order of sweep()).
-//
-// The isotropic model gives every side the same mean H, so the outward backs of the walls of a
-// room would get as much as their lit fronts. The push follows the direction of the light
-// instead, to second order: the clamped cosine of a side of normal n lit from direction d,
-// 4 max(0, n.d) in units of its mean, is 1 + 2 n.d + (5/4) P2(n.d) to second order in spherical
-// harmonics (Ramamoorthi and Hanrahan 2001, "An Efficient Representation for Irradiance
-// Environment Maps", SIGGRAPH '01: the clamped cosine's Legendre coefficients are 1/4, 1/2 and
-// 5/16; P2(x) = (3x^2 - 1) / 2), so a side gets H + 2 W.n + (5/8)(3 n^T Q n - H) with W and Q the
-// gathered sum_links K L d and sum_links K L d d^T, clipped at 0. Over the sides of a closed
-// object (normals every way) the two higher terms average to zero, so the push keeps the light
-// the cluster received; the first-order push alone had to be clipped where it went negative
-// (1 - 2 = -1 on the side facing away from a single source), which added 12.5 % to a sphere lit
-// from one side once the far side's rays no longer counted as occluded (visibility()), and gave
-// a side facing the source 3H of its 4H (4.25H now). (Giving the clipped side's share to the
-// other side, as once done, capped a facing patch at 2H; in the modern hall, with the isotropic
-// source, the indirect light on the walls was 13 % low, 10 % with the first-order push and the
-// directional source.)
-// Also pulls each cluster's M (clusterRadianceToward) from its patches' two sides.
-Color RadiositySolver::sweepCluster(int c, const Color& Hdown, const Mat3& Wdown,
-                                    const SecondMoment& Qdown, ChangeSums& sums, bool gatherNow) {
-    if (gatherNow)
-        gatherCluster(c);
-    const Color H = clusterH_[static_cast<size_t>(c)] + Hdown;
-    const Mat3 W = clusterW_[static_cast<size_t>(c)] + Wdown;
-    const SecondMoment Q = clusterQ_[static_cast<size_t>(c)] + Qdown;
-    const Cluster& cl = (*clusters_)[c];
-    Color sum(0.0f);
-    Mat3 M(0.0f);
-    float lo = std::numeric_limits<float>::infinity(), hi = 0.0f;
-    const auto add = [&](int n, const Color& L, double area) {
-        sum += static_cast<float>(area) * L;
-        lo = glm::min(lo, nodeLmin(n));
-        hi = glm::max(hi, nodeLmax(n));
-    };
-    if (cl.isLeaf()) {
-        for (const int patch : clusters_->patches(c)) {
-            const Vec3& normal = mesh_.normal(patch);
-            const Color slope = 2.0f * (W * normal);
-            // (5/8)(3 n^T Q n - H), the same on both sides.
-            const Color even = 0.625f * (3.0f * Q.along(normal) - H);
-            const std::array<Color, 2> Hside{
-                glm::max(H + slope + even, Color(0.0f)),
-                glm::max(H - slope + even, Color(0.0f))};  // front, back
-            std::array<Color, 2> L;                        // front, back
-            for (const bool side : {true, false}) {
-                const int n = node(patch, side);
-                if (gatherNow)
-                    gatherTree(n);
-                L[side ? 0 : 1] = pushPull(n, Hside[side ? 0 : 1], Mat3(0.0f), sums);
-                add(n, L[side ? 0 : 1], mesh_.area(patch));
-            }
-            M += glm::outerProduct(static_cast<float>(mesh_.area(patch)) * (L[0] - L[1]), normal);
-        }
-    } else {
-        for (const int child : cl.children) {
-            add(clusterNode(child), sweepCluster(child, H, W, Q, sums, gatherNow),
-                (*clusters_)[child].area);
-            M += clusterM_[static_cast<size_t>(child)];
-        }
-    }
-    const size_t i = static_cast<size_t>(c);
-    clusterM_[i] = M;
-    clusterL_[i] = sum / static_cast<float>(cl.area);
-    clusterLmin_[i] = lo;
-    clusterLmax_[i] = hi;
-    return clusterL_[i];
-}
-
-// Pushes and pulls every tree with what was gathered last, without gathering.
-void RadiositySolver::pushPullAll() {
-    ChangeSums ignored;
-    if (clusters_) {
-        sweepCluster(0, Color(0.0f), Mat3(0.0f), SecondMoment{}, ignored, false);
-        return;
-    }
-    const int roots = static_cast<int>(2 * mesh_.patchCount());
-    for (int r = 0; r < roots; ++r)
-        pushPull(r, Color(0.0f), Mat3(0.0f), ignored);
-}
-
-// One sweep over all patch sides; returns the area-weighted L1 norms over the leaves of the change
-// ||L_k - L_{k-1}|| and of L_k, whose ratio is also the relative residual of the Jacobi form of
-// the equation at L_{k-1}. Jacobi gathers everything from the previous sweep's radiance (in
-// parallel), then pushes and pulls each tree; Gauss-Seidel gathers and pushes-pulls one patch
-// side at a time, so later patches already see the new radiance of earlier ones (Cohen and
-// Wallace 1993, chapter 5, applied per tree as in HSA91's "SolveSystem").
-RadiositySolver::ChangeSums RadiositySolver::sweep() {
-    const int roots = static_cast<int>(2 * mesh_.patchCount());
-    ChangeSums total;
-    if (clusters_) {
-        if (settings_.iteration == RadiositySettings::Iteration::Jacobi) {
-            tbb::parallel_for(size_t(0), links_.size(),
-                              [&](size_t n) { gather(static_cast<int>(n)); });
-            tbb::parallel_for(size_t(0), clusterLinks_.size(),
-                              [&](size_t c) { gatherCluster(static_cast<int>(c)); });
-        }
-        sweepCluster(0, Color(0.0f), Mat3(0.0f), SecondMoment{}, total,
-                     settings_.iteration == RadiositySettings::Iteration::GaussSeidel);
-    } else if (settings_.iteration == RadiositySettings::Iteration::Jacobi) {
-        tbb::parallel_for(size_t(0), links_.size(), [&](size_t n) { gather(static_cast<int>(n)); });
-        tbb::combinable<ChangeSums> sums;
-        tbb::parallel_for(0, roots,
-                          [&](int r) { pushPull(r, Color(0.0f), Mat3(0.0f), sums.local()); });
-        sums.combine_each([&](const ChangeSums& s) {
-            total.change += s.change;
-            total.norm += s.norm;
-        });
-    } else {
-        for (int r = 0; r < roots; ++r) {
-            gatherTree(r);
-            pushPull(r, Color(0.0f), Mat3(0.0f), total);
-        }
-    }
-    return total;
 }
 
 // Sweeps until the estimated relative error is below `threshold`. The estimate is the a
@@ -1071,7 +665,7 @@ RadiositySolver::ChangeSums RadiositySolver::sweep() {
 // mostly after the first already met its threshold).
 void RadiositySolver::iterate(double threshold, int round, const std::string& stage) {
     beginStage(stage, kGatherProgressUnits);
-    updateChildWeights();
+    links_->updateChildWeights();
     std::vector<double> changes, absoluteChanges;
     converged_ = false;
     // The bar measures the error's way down on a log scale, from the first sweep's change to the
@@ -1093,7 +687,7 @@ void RadiositySolver::iterate(double threshold, int round, const std::string& st
     while (iterations_.size() < static_cast<size_t>(settings_.maxIterations)) {
         RadiosityIteration it;
         it.round = round;
-        const ChangeSums sums = sweep();
+        const ChangeSums sums = radiance_->sweep();
         it.change = sums.norm > 0.0 ? sums.change / sums.norm : 0.0;
         changes.push_back(it.change);
         absoluteChanges.push_back(sums.change);
@@ -1131,72 +725,12 @@ void RadiositySolver::iterate(double threshold, int round, const std::string& st
     endStage(summary.str());
 }
 
-// The first reflection of the sources' light, for indirectRadiance(): what each leaf side gathers
-// from the emission alone, through its own links and its ancestors', plus the punctual lights'
-// direct light, times rho: direct_i = rho_i (D_i + sum_j K_ij Le_j), pushed and pulled like the
-// whole solution. The indirect part L - Le - direct is then the solution's light that has been
-// reflected at least twice (paths L D D+), by the same links, form factors and visibility as the
-// solution itself, so that a ray tracer adding its own direct light back counts every path once
-// (the two-pass method of Wallace, Cohen and Greenberg 1987; Sillion and Puech 1989).
-//
-// It is one Jacobi sweep of the machinery the solution uses, run on the emission: the solution is
-// set aside, the emission is pushed and pulled to every node (a gather of nothing, with D = 0),
-// every node gathers from it, the push-pull forms Le + rho (D + H_e) at the leaves, and the
-// solution is put back. The cost is one sweep.
-void RadiositySolver::computeDirectPart() {
-    std::vector<Color> L = L_, H = H_, clusterL = clusterL_, clusterH = clusterH_;
-    std::vector<std::array<Color, 4>> Hchild = Hchild_;
-    std::vector<Mat3> G = G_, clusterW = clusterW_, clusterM = clusterM_;
-    std::vector<SecondMoment> clusterQ = clusterQ_;
-    std::vector<float> Lmin = Lmin_, Lmax = Lmax_, clusterLmin = clusterLmin_,
-                       clusterLmax = clusterLmax_;
-    // The emission at every node (a parent's: its leaves' area mean, as a source shows it).
-    std::vector<Color> D(L_.size(), Color(0.0f));
-    irradiance_->swap(D);
-    std::fill(H_.begin(), H_.end(), Color(0.0f));
-    std::fill(Hchild_.begin(), Hchild_.end(),
-              std::array<Color, 4>{Color(0.0f), Color(0.0f), Color(0.0f), Color(0.0f)});
-    std::fill(G_.begin(), G_.end(), Mat3(0.0f));
-    std::fill(clusterH_.begin(), clusterH_.end(), Color(0.0f));
-    std::fill(clusterW_.begin(), clusterW_.end(), Mat3(0.0f));
-    std::fill(clusterQ_.begin(), clusterQ_.end(), SecondMoment{});
-    pushPullAll();
-    irradiance_->swap(D);
-    // Every node gathers from the emission; then Le + rho (D + H_e) at the leaves.
-    tbb::parallel_for(size_t(0), links_.size(), [&](size_t n) { gather(static_cast<int>(n)); });
-    tbb::parallel_for(size_t(0), clusterLinks_.size(),
-                      [&](size_t c) { gatherCluster(static_cast<int>(c)); });
-    pushPullAll();
-    direct_.assign(L_.size(), Color(0.0f));
-    for (size_t n = 0; n < L_.size(); ++n) {
-        if (mesh_.isLeaf(element(static_cast<int>(n))))
-            direct_[n] = glm::max(L_[n] - emission(static_cast<int>(n)), Color(0.0f));
-    }
-    L_ = std::move(L);
-    H_ = std::move(H);
-    Hchild_ = std::move(Hchild);
-    G_ = std::move(G);
-    Lmin_ = std::move(Lmin);
-    Lmax_ = std::move(Lmax);
-    clusterL_ = std::move(clusterL);
-    clusterH_ = std::move(clusterH);
-    clusterW_ = std::move(clusterW);
-    clusterQ_ = std::move(clusterQ);
-    clusterM_ = std::move(clusterM);
-    clusterLmin_ = std::move(clusterLmin);
-    clusterLmax_ = std::move(clusterLmax);
-}
-
 Color RadiositySolver::elementDirect(int e, bool side) const {
-    const auto n = static_cast<size_t>(node(e, side));
-    return n < direct_.size() ? direct_[n] : Color(0.0f);
+    return radiance_->elementDirect(e, side);
 }
 
 Color RadiositySolver::elementIndirect(int e, bool side) const {
-    const int n = node(e, side);
-    if (static_cast<size_t>(n) >= direct_.size() || !mesh_.isLeaf(e))
-        return Color(0.0f);
-    return glm::max(L_[n] - emission(n) - direct_[n], Color(0.0f));
+    return radiance_->elementIndirect(e, side);
 }
 
 // The final gather: a Monte Carlo gather of each leaf side's indirect light from the solution, as
@@ -1210,14 +744,14 @@ Color RadiositySolver::elementIndirect(int e, bool side) const {
 // y_k the first surface the mesh holds along the ray (meshed_hit.h, through thin glass of
 // transmittance T_k) and L_r the reflected radiance of the leaf side there (reflectedAt), is an
 // unbiased estimate of the light the side reflects of the others' reflected light, its indirect
-// part (the first reflection of the sources, direct_, stays the links': an emitter seen by a few
-// cosine rays would make G far noisier).
+// part (the first reflection of the sources, elementDirect, stays the links': an emitter seen by a
+// few cosine rays would make G far noisier).
 //
 // One gather only corrects the last bounce; its light keeps the links' error one bounce back.
 // So the gather drives a defect correction (iterative refinement with the links' operator as the
 // approximate inverse): with T_h the links' transfer and T the gather's, the solution of
 //     L = Le + rho D + T_h L + C,   C = (T - T_h) L
-// solves L = Le + rho D + T L. Each pass adds to every leaf side's correction C (correction_,
+// solves L = Le + rho D + T L. Each pass adds to every leaf side's correction C (RadianceHierarchy,
 // added in leafRadiance) the difference between G and its current indirect light, then the gather
 // sweeps converge with the links (iterate). The error falls by the norm of (I - T_h)^-1 (T - T_h)
 // per pass, small where the links are nearly right: the relative change of the correction was
@@ -1232,7 +766,7 @@ Color RadiositySolver::elementIndirect(int e, bool side) const {
 // leaf gains: walls 0.954 -> 0.960 (0.961 per leaf) of the path tracer.
 void RadiositySolver::finalGather() {
     const std::vector<int> leaves = leafElements();
-    correction_.assign(L_.size(), Color(0.0f));
+    radiance_->clearCorrection();
     for (int pass = 1; pass <= kMaxFinalGatherPasses; ++pass) {
         const std::string stage = "final gather " + std::to_string(pass);
         beginStage(stage + ": rays", mesh_.leafCount());
@@ -1240,27 +774,29 @@ void RadiositySolver::finalGather() {
         const std::vector<Color> gathered = gatherIndirect(leaves);
         // The change of each patch side's correction: the exposed-area mean of G less the
         // indirect light over its leaves.
+        const size_t nodes = radiance_->nodeCount();
         std::vector<Color> patchDelta(2 * mesh_.patchCount(), Color(0.0f));
         std::vector<double> patchArea(2 * mesh_.patchCount(), 0.0);
-        for (size_t nd = 0; nd < L_.size(); ++nd) {
+        for (size_t nd = 0; nd < nodes; ++nd) {
             if (!(gathered[nd].r >= 0.0f))
                 continue;
             const int n = static_cast<int>(nd);
             const double area = mesh_.area(element(n)) * exposure_->fraction(n);
             const int root = node(mesh_.patch(element(n)), front(n));
-            patchDelta[root] +=
-                static_cast<float>(area) * (gathered[nd] - (L_[nd] - emission(n) - direct_[nd]));
+            patchDelta[root] += static_cast<float>(area) *
+                                (gathered[nd] - (radiance_->L(n) - radiance_->emission(n) -
+                                                 radiance_->elementDirect(element(n), front(n))));
             patchArea[root] += area;
         }
         // Area-weighted L1 norms of the change and of the gathered light, over leaf sides.
         double change = 0.0, norm = 0.0;
-        for (size_t nd = 0; nd < L_.size(); ++nd) {
+        for (size_t nd = 0; nd < nodes; ++nd) {
             if (!(gathered[nd].r >= 0.0f))
                 continue;
             const int n = static_cast<int>(nd);
             const int root = node(mesh_.patch(element(n)), front(n));
             const Color delta = patchDelta[root] / static_cast<float>(patchArea[root]);
-            correction_[nd] += delta;
+            radiance_->addCorrection(n, delta);
             const double area = mesh_.area(element(n)) * exposure_->fraction(n);
             change += area * channelSum(glm::abs(delta));
             norm += area * channelSum(gathered[nd]);
@@ -1286,7 +822,7 @@ Color RadiositySolver::reflectedAt(const MeshedHit& y) const {
     const auto [e, side] =
         leafSideSeenAt(scene_, mesh_, exposure_->coincident(), leaf, y.front, y.hit.p);
     const int n = node(e, side);
-    return glm::max(L_[n] - emission(n), Color(0.0f));
+    return glm::max(radiance_->L(n) - radiance_->emission(n), Color(0.0f));
 }
 
 std::vector<int> RadiositySolver::leafElements() const {
@@ -1307,7 +843,7 @@ int RadiositySolver::finalGatherRays() const {
 // G of finalGather() for every exposed side of `leaves` that reflects, per node; -1 elsewhere.
 std::vector<Color> RadiositySolver::gatherIndirect(const std::vector<int>& leaves) {
     const auto n = static_cast<uint32_t>(finalGatherRays());
-    std::vector<Color> gathered(L_.size(), Color(-1.0f));
+    std::vector<Color> gathered(radiance_->nodeCount(), Color(-1.0f));
     tbb::combinable<uint64_t> rays([] { return uint64_t(0); });
     parallelForWithProgress(leaves.size(), progress_, [&](size_t i) {
         const int e = leaves[i];
@@ -1354,7 +890,7 @@ void RadiositySolver::computeVertexValues() {
     }));
     vertexReflected_.compute(mesh_, exposure_->shownValues([this](int element, bool side) {
         const int n = node(element, side);
-        return glm::max(L_[n] - emission(n), Color(0.0f));
+        return glm::max(radiance_->L(n) - radiance_->emission(n), Color(0.0f));
     }));
 }
 
@@ -1395,9 +931,9 @@ void RadiositySolver::solve(SolveProgress* progress) {
     if (punctual)
         beginStage("direct light of the punctual lights", leaves.size());
     rays_ += irradiance_->compute(leaves, progress_);
-    pushPullAll();
+    radiance_->pushPullAll();
     refineDirect();
-    pushPullAll();
+    radiance_->pushPullAll();
     if (punctual)
         endStage(std::to_string(mesh_.leafCount()) + " leaves");
     secondsDirect_ = secondsSince(start);
@@ -1450,7 +986,7 @@ void RadiositySolver::solve(SolveProgress* progress) {
     stageStart = std::chrono::steady_clock::now();
     iterate(settings_.convergence, round, "gather to convergence");
     beginStage("push-pull of the direct part, vertex values", 0);
-    computeDirectPart();
+    radiance_->computeDirectPart(*irradiance_);
     computeVertexValues();
     endStage(std::to_string(mesh_.vertexCount()) + " vertices");
     secondsSolve_ += secondsSince(stageStart);
@@ -1475,7 +1011,7 @@ Color RadiositySolver::radiance(uint32_t mesh, uint32_t triangle, Vec3 b, bool i
     // A side hidden under a coincident face shows that face's light (shownValues), its emission
     // too.
     const auto [e, side] = exposure_->shownSide(point.element, front);
-    return L + emission(node(e, side));
+    return L + radiance_->emission(node(e, side));
 }
 
 Color RadiositySolver::indirectRadiance(uint32_t mesh, uint32_t triangle, Vec3 b,
@@ -1491,10 +1027,11 @@ Color RadiositySolver::indirectRadiance(uint32_t mesh, uint32_t triangle, Vec3 b
 void RadiositySolver::throwDivergence(const std::string& stage, double growth) const {
     int brightest = -1;
     float most = -1.0f;
-    for (size_t n = 0; n < L_.size(); ++n) {
+    for (size_t n = 0; n < radiance_->nodeCount(); ++n) {
         const int e = element(static_cast<int>(n));
-        if (mesh_.isLeaf(e) && maxComponent(L_[n]) > most) {
-            most = maxComponent(L_[n]);
+        const Color& L = radiance_->L(static_cast<int>(n));
+        if (mesh_.isLeaf(e) && maxComponent(L) > most) {
+            most = maxComponent(L);
             brightest = e;
         }
     }
@@ -1516,11 +1053,11 @@ PassStats RadiositySolver::stats() const {
     const RadiosityMeshStats mesh = mesh_.stats();
     const size_t links = linkCount();
     size_t memory = mesh.memoryBytes + links * sizeof(Link) +
-                    links_.size() * (sizeof(std::vector<Link>) + 3 * sizeof(Color) +
-                                     sizeof(std::array<Color, 4>)) +
-                    clusterLinks_.size() * (sizeof(Cluster) + sizeof(std::vector<Link>));
+                    links_->elementSides() * (sizeof(std::vector<Link>) + 3 * sizeof(Color) +
+                                              sizeof(std::array<Color, 4>)) +
+                    links_->clusters() * (sizeof(Cluster) + sizeof(std::vector<Link>));
     memory += vertexReflected_.memoryBytes() + vertexIndirect_.memoryBytes() +
-              direct_.size() * sizeof(Color) + exposure_->memoryBytes();
+              radiance_->directPartBytes() + exposure_->memoryBytes();
     const RadiosityIteration last = iterations_.empty() ? RadiosityIteration{} : iterations_.back();
     // The reflected luminous flux of each part, pi sum A Y(L) over the leaf sides (lm).
     double directFlux = 0.0, indirectFlux = 0.0;

@@ -96,6 +96,8 @@ namespace penumbra {
 
 class DirectIrradiance;
 class ElementExposure;
+class LinkHierarchy;
+class RadianceHierarchy;
 class Scene;
 struct MeshedHit;
 
@@ -161,25 +163,6 @@ class RadiositySolver : public RadiositySolution {
     PassStats stats() const override;
 
   private:
-    struct Link {
-        int source = -1;  // node gathered from
-        float F = 0.0f;   // unoccluded form factor from the receiver to the source (its mean)
-        Color K{0.0f};    // F times the visible fraction, per channel (thin glass tints)
-        // The transfer at a point x of the receiver is K L_source (1 + g . (x - centroid)): the
-        // linear model of F over the receiver, relative to F (1/m); zero when partly occluded.
-        // For a receiving cluster: the unit direction towards the source.
-        Vec3 g{0.0f};
-        float spread = 0.0f;  // receiver-side error factor of the oracle (linkErrors)
-        float Fmax = 0.0f;    // largest point value of F over the receiver (sampled)
-        // Once the source has children: the shares of F V that fall on each of them, so that the
-        // link gathers sum_c w_c L_c rather than the source's mean radiance; w[0] < 0 until set.
-        std::array<float, 4> w{-1.0f, 0.0f, 0.0f, 0.0f};
-        // Once the receiver has children: the shares of the transfer each of them gets, relative
-        // to an even share (their visible fractions of the source over their mean), so that the
-        // children hidden from the source get less; u[0] < 0 until set.
-        std::array<float, 4> u{-1.0f, 0.0f, 0.0f, 0.0f};
-        ChildVisibility childV;  // for w and u, where the link is partly occluded
-    };
     // A pair for the oracle; spread < 0: take the receiver-side spread from the kernel samples.
     struct RefinePair {
         int receiver, source;
@@ -192,20 +175,6 @@ class RadiositySolver : public RadiositySolution {
     struct LinkErrors {
         double receiver, source;
     };
-    // Area-weighted L1 norms of one sweep's change and of its new radiance, over leaf sides.
-    struct ChangeSums {
-        double change = 0.0, norm = 0.0;
-    };
-
-    // The links gathered by a node (solver_nodes.h).
-    std::vector<Link>& linksOf(int node);
-    // Radiance of a node (a cluster's: the area-weighted mean over its element sides) and the
-    // range of max(L) over its leaves.
-    const Color& nodeRadiance(int node) const;
-    float nodeLmin(int node) const;
-    float nodeLmax(int node) const;
-    Color emission(int node) const;
-
     void resizeArrays();
     // Refinement (HSA91 Refine, Link, RefineLinks).
     bool subdivisible(int element) const;
@@ -227,50 +196,10 @@ class RadiositySolver : public RadiositySolution {
     bool refineDirect();
     bool subdivideByContrast();
     void updateThresholds(bool relativeFloor);
-    // Solution (HSA91 GatherRad, PushPullRad).
-    void setSourceWeights(int receiver, Link& link) const;
-    void setReceiverWeights(int receiver, Link& link) const;
-    void updateChildWeights();
-    Color clusterRadianceToward(int cluster, const Vec3& toward) const;
-    Color sourceRadiance(int receiver, const Link& link) const;
-    void gather(int node);
-    void gatherTree(int node);
-    void gatherCluster(int cluster);
-    // A symmetric 3x3 matrix per channel, sum t d d^T of transfers t from directions d: the
-    // components xx, yy, zz, xy, xz, yz.
-    struct SecondMoment {
-        std::array<Color, 6> q{};
-
-        void add(const Color& t, const Vec3& d) {
-            q[0] += t * (d.x * d.x);
-            q[1] += t * (d.y * d.y);
-            q[2] += t * (d.z * d.z);
-            q[3] += t * (d.x * d.y);
-            q[4] += t * (d.x * d.z);
-            q[5] += t * (d.y * d.z);
-        }
-        // n^T Q n per channel.
-        Color along(const Vec3& n) const {
-            return q[0] * (n.x * n.x) + q[1] * (n.y * n.y) + q[2] * (n.z * n.z) +
-                   2.0f * (q[3] * (n.x * n.y) + q[4] * (n.x * n.z) + q[5] * (n.y * n.z));
-        }
-        SecondMoment operator+(const SecondMoment& o) const {
-            SecondMoment r;
-            for (size_t k = 0; k < q.size(); ++k)
-                r.q[k] = q[k] + o.q[k];
-            return r;
-        }
-    };
-    Color sweepCluster(int cluster, const Color& Hdown, const Mat3& Wdown,
-                       const SecondMoment& Qdown, ChangeSums& sums, bool gatherNow);
-    void pushPullAll();
-    Color pushPull(int node, const Color& Hdown, const Mat3& Gdown, ChangeSums& sums);
-    ChangeSums sweep();
     // Throws SceneError naming the mesh and place of the brightest leaf (see iterate()).
     [[noreturn]] void throwDivergence(const std::string& stage, double growth) const;
     // Reports itself as the progress stage `stage`.
     void iterate(double threshold, int round, const std::string& stage);
-    void computeDirectPart();
     // The final gather's passes (finalGather in radiosity_solver.cpp), each a stage with its
     // gather sweeps; gatherIndirect() advances the current stage by one per leaf.
     void finalGather();
@@ -289,32 +218,10 @@ class RadiositySolver : public RadiositySolution {
     RadiositySettings settings_;
     std::unique_ptr<ElementExposure> exposure_;
     std::unique_ptr<DirectIrradiance> irradiance_;
-
-    // Per node (2 * element + side).
-    std::vector<Color> L_;  // radiance leaving, emission included
-    std::vector<Color> H_;  // gathered through the node's links, at its centroid (cd/m²)
-    std::vector<Mat3> G_;   // its gradient over the node: column k = d/dx_k of the channels
-    // What the node's own links add to H on each of its children beyond the even share, by the
-    // children's visibility of the sources (Link::u); sums to zero over the children.
-    std::vector<std::array<Color, 4>> Hchild_;
-    std::vector<float> Lmin_, Lmax_;  // range of max(L) over the node's leaves
-    std::vector<Color> direct_;       // the first reflection of the sources (elementDirect)
-    // What the final gather adds to each leaf side's radiance beyond the links' transfer
-    // (finalGather in radiosity_solver.cpp); empty without a final gather.
-    std::vector<Color> correction_;
-    std::vector<std::vector<Link>> links_;  // links gathered by this node
-
-    // Per cluster (empty without clustering).
-    std::unique_ptr<ClusterTree> clusters_;
-    std::vector<Color> clusterL_, clusterH_;
-    std::vector<Mat3> clusterW_;          // gathered sum K L d, column k: the channels times d_k
-    std::vector<SecondMoment> clusterQ_;  // gathered sum K L d d^T
-    // sum over the patches of A (L_front - L_back) n, column k: the channels times n_k
-    // (clusterRadianceToward)
-    std::vector<Mat3> clusterM_;
-    std::vector<float> clusterLmin_, clusterLmax_;
-    std::vector<std::vector<Link>> clusterLinks_;
+    std::unique_ptr<ClusterTree> clusters_;  // null without clustering
     std::unique_ptr<LinkTransfer> transfer_;
+    std::unique_ptr<LinkHierarchy> links_;
+    std::unique_ptr<RadianceHierarchy> radiance_;
 
     double threshold_ = 0.0;  // the oracle's absolute threshold (radiance) of this round
     // The receiver-relative criterion's floor per channel (exceedsThreshold); 0 until the first
