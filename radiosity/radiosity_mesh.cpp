@@ -423,6 +423,15 @@ int RadiosityMesh::split(int element) {
     return first;
 }
 
+std::vector<int> RadiosityMesh::leafElements() const {
+    std::vector<int> leaves;
+    for (size_t e = 0; e < elementCount(); ++e) {
+        if (isLeaf(static_cast<int>(e)))
+            leaves.push_back(static_cast<int>(e));
+    }
+    return leaves;
+}
+
 std::vector<uint32_t> RadiosityMesh::leafBoundary(int element) const {
     const Element& e = at(element);
     if (e.face < 0)

@@ -101,6 +101,8 @@ class RadiosityMesh {
     size_t patchCount() const { return patchCount_; }
     size_t elementCount() const { return elements_.size(); }
     size_t leafCount() const { return leafCount_; }
+    // The current leaves, in element order.
+    std::vector<int> leafElements() const;
     size_t vertexCount() const { return positions_.size(); }
     RadiosityMeshStats stats() const;
 

@@ -13,6 +13,7 @@
 #include "radiosity/form_factor.h"
 #include "radiosity/gather_divergence.h"
 #include "radiosity/link_hierarchy.h"
+#include "radiosity/link_refiner.h"
 #include "radiosity/link_transfer.h"
 #include "radiosity/meshed_hit.h"
 #include "radiosity/radiance_hierarchy.h"
@@ -59,10 +60,6 @@ constexpr uint64_t kGatherProgressUnits = 1000;
 // Passes of adaptive subdivision (subdivision_threshold) after the refinement rounds.
 constexpr int kSubdivisionPasses = 4;
 
-// The receiver-relative criterion's floor (exceedsThreshold), as a fraction of the scene's mean
-// radiance in each channel: a receiver darker than this is refined as if it were this bright.
-constexpr float kRelativeFloor = 0.1f;
-
 }  // namespace
 
 RadiositySolver::RadiositySolver(const Scene& scene, RadiosityMesh& mesh,
@@ -82,6 +79,24 @@ RadiositySolver::RadiositySolver(const Scene& scene, RadiosityMesh& mesh,
     links_ = std::make_unique<LinkHierarchy>(mesh_, *exposure_, clusters_ ? clusters_->size() : 0);
     radiance_ = std::make_unique<RadianceHierarchy>(
         mesh_, *exposure_, *irradiance_, clusters_.get(), *transfer_, *links_, settings_.iteration);
+    // A split element's children start from their parent's radiance and direct light until the
+    // next sweep and their own sampling replace them.
+    const auto split = [this](int e, int first) {
+        resizeArrays();
+        for (int c = first; c < first + RadiosityMesh::kChildren; ++c) {
+            for (const bool side : {true, false}) {
+                radiance_->inherit(node(c, side), node(e, side));
+                irradiance_->inherit(node(c, side), node(e, side));
+            }
+        }
+    };
+    const auto settle = [this](const std::vector<int>& created) {
+        rays_ += exposure_->compute(created);
+        rays_ += irradiance_->compute(created);
+    };
+    refiner_ =
+        std::make_unique<LinkRefiner>(mesh_, settings_, *exposure_, *irradiance_, clusters_.get(),
+                                      *transfer_, *links_, *radiance_, split, settle);
     resizeArrays();
 }
 
@@ -104,548 +119,6 @@ Color RadiositySolver::leafRadiance(int n, const Color& H) const {
 
 size_t RadiositySolver::linkCount() const {
     return links_->linkCount();
-}
-
-// --- Refinement --------------------------------------------------------------------------------
-
-// The oracle's thresholds from the current solution. threshold_, the absolute one: epsilon times
-// the scene's mean radiance, sum_i A_i max(L_i) / sum_i A_i over the patches (both sides counted
-// in the sum, the area once), so that epsilon is a fraction of a typical radiance whatever the
-// scene's units and brightness. With `relativeFloor` also relativeFloor_, the receiver-relative
-// criterion's floor (exceedsThreshold): kRelativeFloor times the same mean per channel.
-void RadiositySolver::updateThresholds(bool relativeFloor) {
-    double largest = 0.0, area = 0.0;
-    Color perChannel(0.0f);
-    for (size_t p = 0; p < mesh_.patchCount(); ++p) {
-        const int e = static_cast<int>(p);
-        const Color &Lfront = radiance_->L(node(e, true)), &Lback = radiance_->L(node(e, false));
-        const Color L = Lfront + Lback;
-        area += mesh_.area(e);
-        largest += mesh_.area(e) * static_cast<double>(maxComponent(Lfront) + maxComponent(Lback));
-        perChannel += mesh_.area(e) * L;
-    }
-    if (!(area > 0.0))
-        return;
-    threshold_ = settings_.epsilon * largest / area;
-    if (relativeFloor)
-        relativeFloor_ = kRelativeFloor * perChannel / static_cast<float>(area);
-}
-
-// Whether a link's error (linkErrors, the larger of the two) is above what the oracle allows: the
-// absolute threshold, and once a solution is known (relativeFloor_ set by refineLinks()) also
-// epsilon times the receiver's own radiance in any channel (at least relativeFloor_). The absolute
-// threshold alone, epsilon times the scene's mean radiance in its largest channel, leaves the
-// faces lit only indirectly, and the weak channels of coloured light, with links whose error is
-// several percent of what they receive: on the Cornell box the tall block's face towards the red
-// wall, green 0.03 cd/m^2 against a mean of 0.5 in red, came out 3 % too bright (its middle 4-11
-// %). The error in a channel is the link's error in the source's largest channel scaled by the
-// source's colour and by the receiver's rho: what the receiver reflects of it.
-bool RadiositySolver::exceedsThreshold(int receiver, int source, const LinkErrors& errors) const {
-    const double error = std::max(errors.receiver, errors.source);
-    if (error > threshold_)
-        return true;
-    if (isCluster(receiver) || !(maxComponent(relativeFloor_) > 0.0f))
-        return false;
-    const Color Ls = radiance_->nodeRadiance(source);
-    const float LsMax = maxComponent(Ls);
-    if (!(LsMax > 0.0f))
-        return false;
-    const Color rho = mesh_.rho(element(receiver));
-    const Color Lr = radiance_->nodeRadiance(receiver);
-    for (int c = 0; c < 3; ++c) {
-        const double reflected = error * static_cast<double>(rho[c] * Ls[c] / LsMax);
-        if (reflected > settings_.epsilon * static_cast<double>(glm::max(Lr[c], relativeFloor_[c])))
-            return true;
-    }
-    return false;
-}
-
-bool RadiositySolver::subdivisible(int e) const {
-    return !mesh_.isLeaf(e) || mesh_.canSplit(e);
-}
-
-// The first of e's four children, splitting e first if it is a leaf. New children start from the
-// parent's radiance and direct light until the next sweep and finishSplits() replace them.
-int RadiositySolver::children(int e) {
-    if (!mesh_.isLeaf(e))
-        return mesh_.firstChild(e);
-    const int first = mesh_.split(e);
-    resizeArrays();
-    for (int c = first; c < first + RadiosityMesh::kChildren; ++c) {
-        for (const bool side : {true, false}) {
-            radiance_->inherit(node(c, side), node(e, side));
-            irradiance_->inherit(node(c, side), node(e, side));
-        }
-        created_.push_back(c);
-    }
-    return first;
-}
-
-void RadiositySolver::finishSplits() {
-    rays_ += exposure_->compute(created_);
-    rays_ += irradiance_->compute(created_);
-    created_.clear();
-}
-
-// The new elements' exposed fractions come before the new links' evaluation: a link with a partly
-// covered end counts only the exposed points (visibility, exposedFormFactor).
-void RadiositySolver::refineAndLink(std::vector<RefinePair> pairs) {
-    std::vector<PendingLink> pending;
-    refine(std::move(pairs), pending);
-    finishSplits();
-    evaluateLinks(pending);
-}
-
-// The two errors a link (receiver <- source) makes, in radiance at the receiver. HSA91's BF oracle
-// weighs the transfer itself, B_q F_pq (times A_p for power); these weigh what the link gets
-// wrong instead, in the way of Lischinski, Smits and Greenberg 1994, "Bounds and Error Estimates
-// for Radiosity", SIGGRAPH '94, which refines links by the spread of their transfer (estimated
-// here from samples, not bounded):
-//  - receiver side: what the linear push cannot follow of the form factor's variation over the
-//    receiver, `spread` (Link::spread) times max(L_source);
-//  - source side: the link carries the source's mean radiance while the radiance spreads by
-//    (L_max - L_min) over the source's leaves: F_max (L_max - L_min).
-// Weighing F alone misses the first: with HSA91's constant push, in the closed box a corner
-// element gathers 1.9 times what it should from links that each carry under 1 %.
-RadiositySolver::LinkErrors RadiositySolver::linkErrors(int source, float spread,
-                                                        float Fmax) const {
-    return {
-        static_cast<double>(spread) * maxComponent(radiance_->nodeRadiance(source)),
-        static_cast<double>(Fmax) * (radiance_->nodeLmax(source) - radiance_->nodeLmin(source))};
-}
-
-// HSA91 "Refine": while the larger of a link's errors exceeds the threshold and one of the two
-// elements can still be subdivided, the side at fault is subdivided (the other if it cannot) and
-// its children are refined against the other element; otherwise the pair is linked ("Link").
-// HSA91 subdivides the element with the larger form factor estimate, i.e. the larger one; here
-// the error says which side needs it. A pair's `spread` is its receiver-side spread, from the link
-// for a link being refined, else (negative) from the samples.
-//
-// HSA91 recurse depth first; here the pairs are taken level by level, so that the kernel samples
-// of a whole level are computed in parallel and only the decisions, which split elements, are
-// sequential. The links made are the same.
-void RadiositySolver::refine(std::vector<RefinePair> batch, std::vector<PendingLink>& pending) {
-    while (!batch.empty()) {
-        advanceStage(batch.size());  // the oracle's stage counts the pairs it examines
-        std::vector<KernelSamples> samples(batch.size());
-        std::vector<char> interacts(batch.size(), 0);
-        tbb::parallel_for(size_t(0), batch.size(), [&](size_t i) {
-            const RefinePair& p = batch[i];
-            if (isCluster(p.receiver) || isCluster(p.source) ||
-                !transfer_->mayInteract(p.receiver, p.source))
-                return;
-            interacts[i] = 1;
-            samples[i] = transfer_->kernelSamples(p.receiver, p.source);
-        });
-        std::vector<RefinePair> next;
-        for (size_t i = 0; i < batch.size(); ++i) {
-            const RefinePair& p = batch[i];
-            if (isCluster(p.receiver) || isCluster(p.source)) {
-                refineClusterPair(p.receiver, p.source, next, pending);
-                continue;
-            }
-            if (!interacts[i])
-                continue;
-            const KernelSamples& k = samples[i];
-            const int er = element(p.receiver), es = element(p.source);
-            const bool canR = subdivisible(er), canS = subdivisible(es);
-            const LinkErrors errors =
-                linkErrors(p.source, p.spread >= 0.0f ? p.spread : k.spread(1.0f), k.max());
-            if (!exceedsThreshold(p.receiver, p.source, errors) || !(canR || canS)) {
-                pending.push_back({p.receiver, p.source, k});
-                continue;
-            }
-            const bool splitSource = canS && (!canR || errors.source > errors.receiver);
-            const int first = children(splitSource ? es : er);
-            for (int c = first; c < first + RadiosityMesh::kChildren; ++c) {
-                next.push_back({splitSource ? p.receiver : node(c, front(p.receiver)),
-                                splitSource ? node(c, front(p.source)) : p.source});
-            }
-        }
-        batch = std::move(next);
-    }
-}
-
-// Whether a link's whole transfer, F_max times the larger of its source's radiance and the
-// scene's mean (which a dark source may reach once lit), is under the oracle's threshold: then an
-// error in its visible fraction cannot matter more than the refinement tolerates. (Allowing a
-// quarter of the transfer instead, on the grounds that four stratified pairs rarely miss more,
-// lets the shadow of a block be missed: 12 % of the mean on a leaf against the dense solve.)
-bool RadiositySolver::smallTransfer(int source, float Fmax) const {
-    const double mean = threshold_ / settings_.epsilon;
-    return Fmax *
-               std::max(mean, static_cast<double>(maxComponent(radiance_->nodeRadiance(source)))) <=
-           threshold_;
-}
-
-// Form factor, visibility and linear model of new links, in parallel (the refinement that decided
-// them is sequential because it splits elements). Links that carry nothing (F = 0, or fully
-// occluded) are dropped: no oracle would refine them. A partly occluded link gets no slope (the
-// visibility's variation is unknown) and a spread of its whole F_max, as a shadow boundary may
-// cross the receiver anywhere. A link with a cluster at either end carries the isotropic kernel
-// (clusterKernel) times the visible fraction, with no slope and its error bound as both spreads.
-//
-// A pair listed in both directions (as the initial linking makes many) is evaluated once: the
-// reverse link takes F_ji = A_i F_ij / A_j and the same visible fraction, which halves its work and
-// makes the pair's transfer exactly reciprocal. (Keeping form factors for a reverse link of a
-// later round gained nothing measurable on the Cornell box: refinement weighs each source's own
-// radiance, so it seldom asks for the reverse.)
-void RadiositySolver::evaluateLinks(const std::vector<PendingLink>& pending) {
-    const auto start = std::chrono::steady_clock::now();
-    const size_t n = pending.size();
-    // Pair each link with its reverse, if pending too.
-    std::vector<int> reverse(n, -1);
-    std::vector<char> primary(n, 1);
-    {
-        const auto key = [](int r, int s) {
-            return (static_cast<uint64_t>(static_cast<uint32_t>(r)) << 32) |
-                   static_cast<uint32_t>(s);
-        };
-        std::unordered_map<uint64_t, int> seen;
-        seen.reserve(n);
-        // A partly covered end makes the two directions' transfers differ (visibility,
-        // exposedFormFactor).
-        for (size_t i = 0; i < n; ++i) {
-            if (exposure_->partlyCovered(pending[i].receiver) ||
-                exposure_->partlyCovered(pending[i].source))
-                continue;
-            const auto it = seen.find(key(pending[i].source, pending[i].receiver));
-            if (it != seen.end() && reverse[static_cast<size_t>(it->second)] < 0) {
-                reverse[static_cast<size_t>(it->second)] = static_cast<int>(i);
-                reverse[i] = it->second;
-                primary[i] = 0;
-            } else {
-                seen.emplace(key(pending[i].receiver, pending[i].source), static_cast<int>(i));
-            }
-        }
-    }
-    const auto isClusterLink = [&](size_t i) {
-        return isCluster(pending[i].receiver) || isCluster(pending[i].source);
-    };
-    // The unoccluded kernel and its largest value over the receiver (the oracle's bound for a
-    // cluster link).
-    std::vector<float> F(n, 0.0f), Fmax(n, 0.0f), spread(n, 0.0f);
-    std::vector<Color> V(n, Color(0.0f));
-    std::vector<ChildVisibility> childV(n);
-
-    // The form factors and shadow rays are most of a refinement's time: the stage's bar counts
-    // the pending links.
-    if (n > 0) {
-        endStage(std::to_string(n) + " links to evaluate");  // the oracle's stage
-        beginStage(step_ + ": form factors and visibility", n);
-    }
-    tbb::combinable<uint64_t> rays([] { return uint64_t(0); });
-    parallelForWithProgress(n, progress_, [&](size_t i) {
-        if (!primary[i])
-            return;
-        const PendingLink& p = pending[i];
-        const int j = reverse[i];
-        if (isClusterLink(i)) {
-            const ClusterKernel k = transfer_->clusterKernel(p.receiver, p.source);
-            F[i] = k.K;
-            Fmax[i] = k.Kmax;
-            spread[i] = k.error;
-            if (j >= 0) {
-                const ClusterKernel kr = transfer_->clusterKernel(p.source, p.receiver);
-                Fmax[static_cast<size_t>(j)] = kr.Kmax;
-                spread[static_cast<size_t>(j)] = kr.error;
-            }
-        } else if (p.samples.max() > 0.0f) {
-            // Visibility first, with the kernel samples' largest value for F_max: a hidden pair
-            // is dropped without its form factor (one pair in nine in the Cornell box).
-            bool adaptive = smallTransfer(p.source, p.samples.max());
-            if (j >= 0)
-                adaptive = adaptive &&
-                           smallTransfer(p.receiver, pending[static_cast<size_t>(j)].samples.max());
-            V[i] = transfer_->visibility(p.receiver, p.source, rays.local(), adaptive, &childV[i]);
-            if (j >= 0) {
-                V[static_cast<size_t>(j)] = V[i];
-                childV[static_cast<size_t>(j)] = childV[i].reversed();
-            }
-            if (maxComponent(V[i]) <= 0.0f)
-                return;
-            F[i] = transfer_->exposedFormFactor(
-                p.receiver, p.source, transfer_->formFactor(p.receiver, p.source, &p.samples));
-            Fmax[i] = glm::max(p.samples.max(), F[i]);
-            if (j >= 0) {
-                const size_t r = static_cast<size_t>(j);
-                F[r] = F[i] * static_cast<float>(transfer_->nodeArea(p.receiver) /
-                                                 transfer_->nodeArea(p.source));
-                Fmax[r] = glm::max(pending[r].samples.max(), F[r]);
-            }
-            return;
-        } else {
-            F[i] = transfer_->exposedFormFactor(
-                p.receiver, p.source, transfer_->formFactor(p.receiver, p.source, &p.samples));
-            Fmax[i] = glm::max(p.samples.max(), F[i]);
-        }
-        if (!(F[i] > 0.0f))
-            return;
-        bool adaptive = smallTransfer(p.source, Fmax[i]);
-        if (j >= 0) {
-            const size_t r = static_cast<size_t>(j);
-            F[r] = F[i] * static_cast<float>(transfer_->nodeArea(p.receiver) /
-                                             transfer_->nodeArea(p.source));
-            if (!isClusterLink(i))
-                Fmax[r] = glm::max(pending[r].samples.max(), F[r]);
-            adaptive = adaptive && smallTransfer(p.receiver, Fmax[r]);
-        }
-        V[i] = transfer_->visibility(p.receiver, p.source, rays.local(), adaptive, &childV[i]);
-        if (j >= 0) {
-            V[static_cast<size_t>(j)] = V[i];
-            childV[static_cast<size_t>(j)] = childV[i].reversed();
-        }
-    });
-    // The links, each from its own receiver's samples.
-    std::vector<Link> evaluated(n);
-    tbb::parallel_for(size_t(0), n, [&](size_t i) {
-        const PendingLink& p = pending[i];
-        Link& link = evaluated[i];
-        link.source = p.source;
-        link.F = F[i];
-        link.Fmax = Fmax[i];
-        link.K = F[i] * V[i];
-        link.childV = childV[i];
-        if (!(link.F > 0.0f))
-            return;
-        if (isClusterLink(i)) {
-            // The oracle's error of a cluster link, on both sides (clusterKernel); a receiving
-            // cluster keeps the direction towards the source for its directional push.
-            link.spread = link.Fmax = spread[i];
-            const Vec3 toward = transfer_->nodeCenter(p.source) - transfer_->nodeCenter(p.receiver);
-            if (isCluster(p.receiver) && glm::dot(toward, toward) > 0.0f)
-                link.g = glm::normalize(toward);
-            return;
-        }
-        if (glm::min(V[i].r, glm::min(V[i].g, V[i].b)) < 1.0f) {
-            link.spread = link.Fmax;
-            return;
-        }
-        float limiter = 1.0f;
-        link.g = transfer_->linearModel(p.receiver, p.samples, link.F, limiter);
-        link.spread = p.samples.spread(limiter);
-    });
-    for (size_t i = 0; i < n; ++i) {
-        if (maxComponent(evaluated[i].K) > 0.0f)
-            links_->linksOf(pending[i].receiver).push_back(evaluated[i]);
-    }
-    rays_ += rays.combine(std::plus<uint64_t>());
-    secondsLinks_ += secondsSince(start);
-}
-
-// HSA91's initial linking: Refine every ordered pair of patch sides that can see each other (or,
-// with clusters, the root cluster's self-link).
-void RadiositySolver::linkPatches() {
-    if (clusters_) {
-        linkClusters();
-        return;
-    }
-    updateThresholds(false);
-    std::vector<RefinePair> pairs;
-    const int roots = static_cast<int>(2 * mesh_.patchCount());
-    for (int r = 0; r < roots; ++r) {
-        for (int s = 0; s < roots; ++s)
-            pairs.push_back({r, s});
-    }
-    refineAndLink(std::move(pairs));
-}
-
-// --- Clusters ----------------------------------------------------------------------------------
-
-bool RadiositySolver::canSplitNode(int n) const {
-    return isCluster(n) || subdivisible(element(n));
-}
-
-// The nodes one level below: a cluster's two child clusters, or both sides of each patch of a
-// leaf cluster (those not wholly covered); an element side's four children (splitting the element
-// if it is a leaf).
-std::vector<int> RadiositySolver::nodeChildren(int n) {
-    std::vector<int> result;
-    if (isCluster(n)) {
-        const Cluster& c = (*clusters_)[cluster(n)];
-        if (!c.isLeaf()) {
-            result = {clusterNode(c.children[0]), clusterNode(c.children[1])};
-        } else {
-            for (const int patch : clusters_->patches(cluster(n))) {
-                for (const bool side : {true, false}) {
-                    if (exposure_->exposed(node(patch, side)))
-                        result.push_back(node(patch, side));
-                }
-            }
-        }
-        return result;
-    }
-    const int first = children(element(n));
-    for (int c = first; c < first + RadiosityMesh::kChildren; ++c)
-        result.push_back(node(c, front(n)));
-    return result;
-}
-
-// HSA91 "Refine" generalised to clusters (Sillion 1995, section 5): a pair with a cluster at one
-// end or both is linked when clusterKernel allows it and its bound times the source's radiance is
-// under the threshold; otherwise the larger of the two (by bounding radius, HSA91's choice) is
-// replaced by its children, down to pairs of elements, which refine() takes over. A cluster's
-// self-pair is all pairs of its children, self-pairs included. The pairs of children go to `next`.
-void RadiositySolver::refineClusterPair(int receiver, int source, std::vector<RefinePair>& next,
-                                        std::vector<PendingLink>& pending) {
-    if (receiver == source) {
-        const std::vector<int> c = nodeChildren(receiver);
-        for (const int r : c) {
-            for (const int s : c)
-                next.push_back({r, s});
-        }
-        return;
-    }
-    if (!transfer_->mayInteractWithCluster(receiver, source))
-        return;
-    // An emitting cluster is never a source: the isotropic model would send the light of a lamp
-    // facing down to the ceiling as much as to the floor. Emitters shine through their elements,
-    // with their orientation (to clusters of receivers, though).
-    const bool emittingSource = isCluster(source) && (*clusters_)[cluster(source)].emits;
-    const ClusterKernel k = transfer_->clusterKernel(receiver, source);
-    // The same oracle as refineLinks() applies, or a link it takes out for its receiver's sake
-    // would come back unchanged every round.
-    if (k.linkable && !emittingSource) {
-        if (!exceedsThreshold(receiver, source, linkErrors(source, k.error, k.error))) {
-            pending.push_back({receiver, source, {}});
-            return;
-        }
-    }
-    // A cluster can always be split; an element only while it is larger than the cluster.
-    const float rr = transfer_->nodeRadius(receiver), rs = transfer_->nodeRadius(source);
-    bool splitReceiver = rr >= rs;
-    if (emittingSource)
-        splitReceiver = false;
-    else if (!isCluster(receiver))
-        splitReceiver = rr > rs && canSplitNode(receiver);
-    else if (!isCluster(source))
-        splitReceiver = !(rs > rr && canSplitNode(source));
-    for (const int c : nodeChildren(splitReceiver ? receiver : source))
-        next.push_back(splitReceiver ? RefinePair{c, source} : RefinePair{receiver, c});
-}
-
-// Initial linking with clusters: the root's self-link, refined.
-void RadiositySolver::linkClusters() {
-    updateThresholds(false);
-    refineAndLink({{clusterNode(0), clusterNode(0)}});
-}
-
-// HSA91 "RefineLinks": every link whose error (linkErrors) now exceeds the threshold, with the
-// radiance of the last solve, is replaced by the links Refine() makes for the pair. Returns
-// whether any link was refined.
-bool RadiositySolver::refineLinks() {
-    updateThresholds(true);
-    std::vector<std::pair<int, Link>> candidates;
-    const auto collect = [&](int receiver) {
-        std::erase_if(links_->linksOf(receiver), [&](const Link& link) {
-            const LinkErrors errors = linkErrors(link.source, link.spread, link.Fmax);
-            const bool refinable = exceedsThreshold(receiver, link.source, errors) &&
-                                   (canSplitNode(receiver) || canSplitNode(link.source));
-            if (refinable)
-                candidates.emplace_back(receiver, link);
-            return refinable;
-        });
-    };
-    for (size_t n = 0; n < links_->elementSides(); ++n)
-        collect(static_cast<int>(n));
-    for (size_t c = 0; c < links_->clusters(); ++c)
-        collect(clusterNode(static_cast<int>(c)));
-    std::vector<RefinePair> pairs;
-    for (const auto& [receiver, link] : candidates)
-        pairs.push_back({receiver, link.source, link.spread});
-    refineAndLink(std::move(pairs));
-    refinedLinks_ += candidates.size();
-    return !candidates.empty();
-}
-
-// The punctual lights under the same oracle as links: a leaf whose direct term spreads over it by
-// more than the threshold (a light pool's falloff, a shadow boundary) is split, down to the
-// minimum area, and its children sample their own. Returns whether any element was split.
-bool RadiositySolver::refineDirect() {
-    updateThresholds(false);
-    std::vector<int> queue;
-    for (size_t e = 0; e < mesh_.elementCount(); ++e) {
-        if (mesh_.isLeaf(static_cast<int>(e)))
-            queue.push_back(static_cast<int>(e));
-    }
-    bool split = false;
-    while (!queue.empty()) {
-        for (const int e : queue) {
-            const float spread =
-                glm::max(irradiance_->spread(node(e, true)), irradiance_->spread(node(e, false)));
-            if (spread > threshold_ && mesh_.canSplit(e))
-                children(e);
-        }
-        queue = created_;
-        split = split || !created_.empty();
-        finishSplits();
-    }
-    return split;
-}
-
-// Adaptive subdivision by contrast, a posteriori (Cohen and Wallace 1993, chapter 6, "Domain
-// Subdivision": split where the solution differs too much between neighbouring elements): a leaf
-// side whose reflected radiance a and a neighbour's b (leaves sharing a vertex
-// of its boundary, T-vertices included) differ by |a - b| > subdivision_threshold max(a, b), and by
-// more than the oracle's absolute threshold (so that darkness does not split on noise), is split
-// if it can be; the links it gathered itself go to its children through Refine, so that they see
-// the variation the leaf could not. Links gathered by its ancestors stay and are pushed down.
-// Returns whether any leaf was split.
-bool RadiositySolver::subdivideByContrast() {
-    const std::vector<int> leaves = leafElements();
-    std::unordered_map<uint32_t, std::vector<int>> around;  // vertex -> leaves on it
-    std::vector<std::vector<uint32_t>> boundary(leaves.size());
-    for (size_t i = 0; i < leaves.size(); ++i) {
-        boundary[i] = mesh_.leafBoundary(leaves[i]);
-        for (const uint32_t v : boundary[i])
-            around[v].push_back(leaves[i]);
-    }
-    const auto reflected = [&](int e, bool side) {
-        const int n = node(e, side);
-        return static_cast<double>(
-            maxComponent(glm::max(radiance_->L(n) - radiance_->emission(n), Color(0.0f))));
-    };
-    // Only exposed leaf sides show light to compare (ElementExposure).
-    const auto exposed = [&](int e, bool side) {
-        return exposure_->fraction(node(e, side)) > 0.0f;
-    };
-    const double relative = settings_.subdivisionThreshold;
-    std::vector<int> marked;
-    for (size_t i = 0; i < leaves.size(); ++i) {
-        const int e = leaves[i];
-        if (!mesh_.canSplit(e))
-            continue;
-        bool contrast = false;
-        for (const bool side : {true, false}) {
-            if (!exposed(e, side))
-                continue;
-            const double a = reflected(e, side);
-            for (const uint32_t v : boundary[i]) {
-                for (const int other : around[v]) {
-                    if (!exposed(other, side))
-                        continue;
-                    const double b = reflected(other, side);
-                    const double d = std::abs(a - b);
-                    contrast = contrast || (d > relative * std::max(a, b) && d > threshold_);
-                }
-            }
-        }
-        if (contrast)
-            marked.push_back(e);
-    }
-    std::vector<RefinePair> pairs;
-    for (const int e : marked) {
-        const int first = children(e);
-        for (const bool side : {true, false}) {
-            for (const Link& link : links_->linksOf(node(e, side))) {
-                for (int c = first; c < first + RadiosityMesh::kChildren; ++c)
-                    pairs.push_back({node(c, side), link.source});
-            }
-            links_->linksOf(node(e, side)).clear();
-        }
-    }
-    refineAndLink(std::move(pairs));
-    return !marked.empty();
 }
 
 // Sweeps until the estimated relative error is below `threshold`. The estimate is the a
@@ -765,7 +238,7 @@ Color RadiositySolver::elementIndirect(int e, bool side) const {
 // modern hall (variant C of docs/benchmarks.md), per patch keeps about three quarters of what per
 // leaf gains: walls 0.954 -> 0.960 (0.961 per leaf) of the path tracer.
 void RadiositySolver::finalGather() {
-    const std::vector<int> leaves = leafElements();
+    const std::vector<int> leaves = mesh_.leafElements();
     radiance_->clearCorrection();
     for (int pass = 1; pass <= kMaxFinalGatherPasses; ++pass) {
         const std::string stage = "final gather " + std::to_string(pass);
@@ -823,15 +296,6 @@ Color RadiositySolver::reflectedAt(const MeshedHit& y) const {
         leafSideSeenAt(scene_, mesh_, exposure_->coincident(), leaf, y.front, y.hit.p);
     const int n = node(e, side);
     return glm::max(radiance_->L(n) - radiance_->emission(n), Color(0.0f));
-}
-
-std::vector<int> RadiositySolver::leafElements() const {
-    std::vector<int> leaves;
-    for (size_t e = 0; e < mesh_.elementCount(); ++e) {
-        if (mesh_.isLeaf(static_cast<int>(e)))
-            leaves.push_back(static_cast<int>(e));
-    }
-    return leaves;
 }
 
 int RadiositySolver::finalGatherRays() const {
@@ -916,6 +380,7 @@ void RadiositySolver::endStage(const std::string& summary) {
 // refining the links with the current radiance until nothing is refined.
 void RadiositySolver::solve(SolveProgress* progress) {
     progress_ = progress;
+    refiner_->setProgress(progress);
     const auto start = std::chrono::steady_clock::now();
     const auto linksAndLeaves = [&] {
         return std::to_string(linkCount()) + " links, " + std::to_string(mesh_.leafCount()) +
@@ -923,7 +388,7 @@ void RadiositySolver::solve(SolveProgress* progress) {
     };
 
     // Stage 1: the punctual lights' direct light; the initial radiance is Le + rho D.
-    const std::vector<int> leaves = leafElements();
+    const std::vector<int> leaves = mesh_.leafElements();
     std::vector<int> elements(mesh_.elementCount());
     std::iota(elements.begin(), elements.end(), 0);
     rays_ += exposure_->compute(elements);
@@ -932,7 +397,7 @@ void RadiositySolver::solve(SolveProgress* progress) {
         beginStage("direct light of the punctual lights", leaves.size());
     rays_ += irradiance_->compute(leaves, progress_);
     radiance_->pushPullAll();
-    refineDirect();
+    refiner_->refineDirect();
     radiance_->pushPullAll();
     if (punctual)
         endStage(std::to_string(mesh_.leafCount()) + " leaves");
@@ -941,9 +406,8 @@ void RadiositySolver::solve(SolveProgress* progress) {
 
     // Stage 2: initial links between the patches (the oracle, then the links' form factors).
     auto stageStart = std::chrono::steady_clock::now();
-    step_ = "linking";
     beginStage("linking: refinement oracle", 0);
-    linkPatches();
+    refiner_->linkPatches("linking");
     endStage(linksAndLeaves());
     secondsLinking_ = secondsSince(stageStart);
     peakLinking_ = peakMemoryMiB();
@@ -957,9 +421,9 @@ void RadiositySolver::solve(SolveProgress* progress) {
     int round = 0;
     const auto step = [&](const std::string& name, const auto& refineStep) {
         stageStart = std::chrono::steady_clock::now();
-        step_ = name + " " + std::to_string(round + 1);
-        beginStage(step_ + ": refinement oracle", 0);
-        const bool refined = refineStep();
+        const std::string stepName = name + " " + std::to_string(round + 1);
+        beginStage(stepName + ": refinement oracle", 0);
+        const bool refined = refineStep(stepName);
         endStage(refined ? linksAndLeaves() : "nothing to refine");
         secondsRefine_ += secondsSince(stageStart);
         peakRefine_ = peakMemoryMiB();
@@ -971,14 +435,16 @@ void RadiositySolver::solve(SolveProgress* progress) {
         secondsSolve_ += secondsSince(stageStart);
         return true;
     };
-    const auto refineRound = [&] {
-        const bool links = refineLinks();
-        return refineDirect() || links;
+    const auto refineRound = [&](const std::string& stepName) {
+        const bool links = refiner_->refineLinks(stepName);
+        return refiner_->refineDirect() || links;
     };
     while (round < settings_.maxRefinements && step("refinement round", refineRound)) {
     }
     // Adaptive subdivision by contrast with the neighbours (subdivision_threshold).
-    const auto subdivide = [&] { return subdivideByContrast(); };
+    const auto subdivide = [&](const std::string& stepName) {
+        return refiner_->subdivideByContrast(stepName);
+    };
     for (int pass = 0; pass < kSubdivisionPasses && settings_.subdivisionThreshold > 0.0f; ++pass) {
         if (!step("subdivision round", subdivide))
             break;
@@ -997,6 +463,7 @@ void RadiositySolver::solve(SolveProgress* progress) {
     }
     secondsTotal_ = secondsSince(start);
     peakSolve_ = peakMemoryMiB();
+    refiner_->setProgress(nullptr);
     progress_ = nullptr;
 }
 
@@ -1082,12 +549,12 @@ PassStats RadiositySolver::stats() const {
             {"coincident_area_m2", formatStat(exposure_->coincident().hiddenArea())},
             {"links", std::to_string(links)},
             {"refinement_rounds", std::to_string(rounds_)},
-            {"refined_links", std::to_string(refinedLinks_)},
+            {"refined_links", std::to_string(refiner_->refinedLinks())},
             {"iterations", std::to_string(iterations_.size())},
             {"residual", formatStat(last.change)},
             {"error_bound", formatStat(last.errorBound)},
             {"converged", converged_ ? "yes" : "no"},
-            {"rays", std::to_string(rays_)},
+            {"rays", std::to_string(rays_ + refiner_->rays())},
             {"deposited_photons", std::to_string(deposits ? deposits->count() : 0)},
             {"deposited_flux_lm", formatStat(depositedFlux)},
             {"direct_flux_lm", formatStat(directFlux)},
@@ -1095,7 +562,7 @@ PassStats RadiositySolver::stats() const {
             {"memory_mib", formatStat(static_cast<double>(memory) / (1024.0 * 1024.0))},
             {"seconds_direct", formatStat(secondsDirect_)},
             {"seconds_linking", formatStat(secondsLinking_)},
-            {"seconds_form_factors", formatStat(secondsLinks_)},
+            {"seconds_form_factors", formatStat(refiner_->secondsFormFactors())},
             {"seconds_refine", formatStat(secondsRefine_)},
             {"seconds_solve", formatStat(secondsSolve_)},
             {"final_gather_rays_per_side", std::to_string(finalGatherRays())},

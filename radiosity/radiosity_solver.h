@@ -97,6 +97,7 @@ namespace penumbra {
 class DirectIrradiance;
 class ElementExposure;
 class LinkHierarchy;
+class LinkRefiner;
 class RadianceHierarchy;
 class Scene;
 struct MeshedHit;
@@ -163,39 +164,7 @@ class RadiositySolver : public RadiositySolution {
     PassStats stats() const override;
 
   private:
-    // A pair for the oracle; spread < 0: take the receiver-side spread from the kernel samples.
-    struct RefinePair {
-        int receiver, source;
-        float spread = -1.0f;
-    };
-    struct PendingLink {
-        int receiver, source;
-        KernelSamples samples;
-    };
-    struct LinkErrors {
-        double receiver, source;
-    };
     void resizeArrays();
-    // Refinement (HSA91 Refine, Link, RefineLinks).
-    bool subdivisible(int element) const;
-    int children(int element);
-    void finishSplits();
-    void linkPatches();
-    void linkClusters();
-    bool canSplitNode(int node) const;
-    std::vector<int> nodeChildren(int node);
-    void refineClusterPair(int receiver, int source, std::vector<RefinePair>& next,
-                           std::vector<PendingLink>& pending);
-    void refine(std::vector<RefinePair> batch, std::vector<PendingLink>& pending);
-    LinkErrors linkErrors(int source, float spread, float Fmax) const;
-    void evaluateLinks(const std::vector<PendingLink>& pending);
-    // refine(), then finishSplits() and evaluateLinks() on what it made, in that order.
-    void refineAndLink(std::vector<RefinePair> pairs);
-    bool refineLinks();
-    bool exceedsThreshold(int receiver, int source, const LinkErrors& errors) const;
-    bool refineDirect();
-    bool subdivideByContrast();
-    void updateThresholds(bool relativeFloor);
     // Throws SceneError naming the mesh and place of the brightest leaf (see iterate()).
     [[noreturn]] void throwDivergence(const std::string& stage, double growth) const;
     // Reports itself as the progress stage `stage`.
@@ -203,7 +172,6 @@ class RadiositySolver : public RadiositySolution {
     // The final gather's passes (finalGather in radiosity_solver.cpp), each a stage with its
     // gather sweeps; gatherIndirect() advances the current stage by one per leaf.
     void finalGather();
-    std::vector<int> leafElements() const;  // the current leaves, in element order
     std::vector<Color> gatherIndirect(const std::vector<int>& leaves);
     Color reflectedAt(const MeshedHit& hit) const;
     void computeVertexValues();
@@ -211,7 +179,6 @@ class RadiositySolver : public RadiositySolution {
     void beginStage(const std::string& name, uint64_t total);
     void advanceStage(uint64_t work);
     void endStage(const std::string& summary);
-    bool smallTransfer(int source, float Fmax) const;
 
     const Scene& scene_;
     RadiosityMesh& mesh_;
@@ -222,12 +189,8 @@ class RadiositySolver : public RadiositySolution {
     std::unique_ptr<LinkTransfer> transfer_;
     std::unique_ptr<LinkHierarchy> links_;
     std::unique_ptr<RadianceHierarchy> radiance_;
+    std::unique_ptr<LinkRefiner> refiner_;
 
-    double threshold_ = 0.0;  // the oracle's absolute threshold (radiance) of this round
-    // The receiver-relative criterion's floor per channel (exceedsThreshold); 0 until the first
-    // refinement round, when a solution is known (updateThresholds).
-    Color relativeFloor_{0.0f};
-    std::vector<int> created_;  // elements split off since the last finishSplits()
     std::vector<RadiosityIteration> iterations_;
     bool converged_ = false;
     // The largest contraction factor iterate() has measured so far (-1 before any), which the
@@ -237,13 +200,11 @@ class RadiositySolver : public RadiositySolution {
     SideVertexValues vertexReflected_;   // the reflected radiance, per mesh vertex and side
     SideVertexValues vertexIndirect_;    // its indirect part (elementIndirect)
     SolveProgress* progress_ = nullptr;  // during solve() only
-    std::string step_;                   // what solve() does now, to name the stages of links
     uint64_t rays_ = 0;
-    size_t refinedLinks_ = 0;
     int finalGatherPasses_ = 0;
     uint64_t finalGatherRays_ = 0;
-    double secondsDirect_ = 0, secondsLinking_ = 0, secondsLinks_ = 0, secondsSolve_ = 0,
-           secondsRefine_ = 0, secondsFinalGather_ = 0, secondsTotal_ = 0;
+    double secondsDirect_ = 0, secondsLinking_ = 0, secondsSolve_ = 0, secondsRefine_ = 0,
+           secondsFinalGather_ = 0, secondsTotal_ = 0;
     double peakDirect_ = 0, peakLinking_ = 0, peakRefine_ = 0, peakSolve_ = 0;  // MiB
 };
 

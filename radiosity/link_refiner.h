@@ -1,0 +1,117 @@
+// The refinement of the hierarchical solver's links (radiosity_solver.h): HSA91's Refine, Link and
+// RefineLinks with an error-based oracle, generalised to clusters (Sillion 1995), the splitting of
+// leaves by their punctual direct light and by contrast with their neighbours, and the evaluation
+// of the new links' transfer (link_transfer.h). It owns the oracle's thresholds; the links it
+// makes go to the LinkHierarchy, the radiance it weighs is the RadianceHierarchy's, and the
+// elements it splits are announced to the solver, which grows its parts indexed by node.
+#pragma once
+
+#include "core/math.h"
+#include "radiosity/cluster_tree.h"
+#include "radiosity/direct_irradiance.h"
+#include "radiosity/element_exposure.h"
+#include "radiosity/link_hierarchy.h"
+#include "radiosity/link_transfer.h"
+#include "radiosity/radiance_hierarchy.h"
+#include "radiosity/radiosity_mesh.h"
+#include "radiosity/radiosity_settings.h"
+#include "radiosity/solve_progress.h"
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace penumbra {
+
+// A pair for the oracle; spread < 0: take the receiver-side spread from the kernel samples.
+struct RefinePair {
+    int receiver, source;
+    float spread = -1.0f;
+};
+struct PendingLink {
+    int receiver, source;
+    KernelSamples samples;
+};
+struct LinkErrors {
+    double receiver, source;
+};
+
+class LinkRefiner {
+  public:
+    // Called when an element is split, with its first child: every part indexed by node makes
+    // room, and the children start from their parent's values.
+    using Split = std::function<void(int element, int firstChild)>;
+    // Called with the elements split since the last call, before their links are evaluated:
+    // their exposure and direct light.
+    using Settle = std::function<void(const std::vector<int>& created)>;
+
+    // All must outlive it; `clusters` is null without clustering.
+    LinkRefiner(RadiosityMesh& mesh, const RadiositySettings& settings,
+                const ElementExposure& exposure, const DirectIrradiance& irradiance,
+                const ClusterTree* clusters, const LinkTransfer& transfer, LinkHierarchy& links,
+                const RadianceHierarchy& radiance, Split split, Settle settle);
+
+    // The progress sink of the solve, if any: the oracle's stages count the pairs they examine,
+    // and each step's links get a stage "<step>: form factors and visibility".
+    void setProgress(SolveProgress* progress) { progress_ = progress; }
+
+    // HSA91's initial linking, with the oracle on the current radiance.
+    void linkPatches(const std::string& step);
+    // HSA91 "RefineLinks" with the radiance of the last solve. Returns whether any link was
+    // refined.
+    bool refineLinks(const std::string& step);
+    // Splits the leaves whose punctual direct light spreads by more than the oracle allows.
+    // Returns whether any element was split.
+    bool refineDirect();
+    // Splits the leaves whose reflected radiance differs too much from a neighbour's
+    // (RadiositySettings::subdivisionThreshold). Returns whether any leaf was split.
+    bool subdivideByContrast(const std::string& step);
+
+    size_t refinedLinks() const { return refinedLinks_; }
+    uint64_t rays() const { return rays_; }  // the new links' shadow rays
+    // The time spent on the form factors and visibility of new links.
+    double secondsFormFactors() const { return secondsLinks_; }
+
+  private:
+    bool subdivisible(int element) const;
+    // The first of the element's four children, splitting it first if it is a leaf.
+    int children(int element);
+    void finishSplits();
+    void linkClusters(const std::string& step);
+    bool canSplitNode(int node) const;
+    std::vector<int> nodeChildren(int node);
+    void refineClusterPair(int receiver, int source, std::vector<RefinePair>& next,
+                           std::vector<PendingLink>& pending);
+    void refine(std::vector<RefinePair> batch, std::vector<PendingLink>& pending);
+    LinkErrors linkErrors(int source, float spread, float Fmax) const;
+    void evaluateLinks(const std::vector<PendingLink>& pending, const std::string& step);
+    // refine(), then finishSplits() and evaluateLinks() on what it made, in that order.
+    void refineAndLink(std::vector<RefinePair> pairs, const std::string& step);
+    bool exceedsThreshold(int receiver, int source, const LinkErrors& errors) const;
+    bool smallTransfer(int source, float Fmax) const;
+    void updateThresholds(bool relativeFloor);
+
+    RadiosityMesh& mesh_;
+    const RadiositySettings& settings_;
+    const ElementExposure& exposure_;
+    const DirectIrradiance& irradiance_;
+    const ClusterTree* clusters_;
+    const LinkTransfer& transfer_;
+    LinkHierarchy& links_;
+    const RadianceHierarchy& radiance_;
+    Split split_;
+    Settle settle_;
+    SolveProgress* progress_ = nullptr;
+
+    double threshold_ = 0.0;  // the oracle's absolute threshold (radiance) of this round
+    // The receiver-relative criterion's floor per channel (exceedsThreshold); 0 until the first
+    // refinement round, when a solution is known (updateThresholds).
+    Color relativeFloor_{0.0f};
+    std::vector<int> created_;  // elements split off since the last finishSplits()
+    size_t refinedLinks_ = 0;
+    uint64_t rays_ = 0;
+    double secondsLinks_ = 0.0;
+};
+
+}  // namespace penumbra
