@@ -10,6 +10,7 @@
 #include "radiosity/direct_irradiance.h"
 #include "radiosity/element_exposure.h"
 #include "radiosity/element_sampling.h"
+#include "radiosity/final_gather.h"
 #include "radiosity/form_factor.h"
 #include "radiosity/gather_divergence.h"
 #include "radiosity/link_hierarchy.h"
@@ -36,10 +37,6 @@
 namespace penumbra {
 
 namespace {
-
-// The final gather's sampler seed, apart from those of the links' visibility (link_transfer.cpp)
-// and of the element points (ElementExposure::kPointSeed), so that they never share a sequence.
-constexpr uint32_t kFinalGatherSeed = 0xc2b2ae35u;
 
 // Passes of the final gather's defect correction (finalGather), at most, and the relative change
 // of the correction below which they stop.
@@ -97,6 +94,8 @@ RadiositySolver::RadiositySolver(const Scene& scene, RadiosityMesh& mesh,
     refiner_ =
         std::make_unique<LinkRefiner>(mesh_, settings_, *exposure_, *irradiance_, clusters_.get(),
                                       *transfer_, *links_, *radiance_, split, settle);
+    finalGather_ =
+        std::make_unique<FinalGather>(scene_, mesh_, *exposure_, *radiance_, finalGatherRays());
     resizeArrays();
 }
 
@@ -206,78 +205,20 @@ Color RadiositySolver::elementIndirect(int e, bool side) const {
     return radiance_->elementIndirect(e, side);
 }
 
-// The final gather: a Monte Carlo gather of each leaf side's indirect light from the solution, as
-// Rushmeier, Patterson and Veerasamy 1993 ("Geometric Simplification for Indirect Illumination
-// Calculations", Graphics Interface '93) gather from a coarse radiosity solution. The links'
-// transfer errs where clusters stand for many patches (a receiving cluster gives all its patches
-// one visible fraction: docs/benchmarks.md, "Where the rest of the walls' deficit lies"); rays
-// see the solution itself. With x_k stratified over the side's exposed part and w_k
-// cosine-distributed about its normal,
-//     G = rho / N sum_k T_k L_r(y_k),
-// y_k the first surface the mesh holds along the ray (meshed_hit.h, through thin glass of
-// transmittance T_k) and L_r the reflected radiance of the leaf side there (reflectedAt), is an
-// unbiased estimate of the light the side reflects of the others' reflected light, its indirect
-// part (the first reflection of the sources, elementDirect, stays the links': an emitter seen by a
-// few cosine rays would make G far noisier).
-//
-// One gather only corrects the last bounce; its light keeps the links' error one bounce back.
-// So the gather drives a defect correction (iterative refinement with the links' operator as the
-// approximate inverse): with T_h the links' transfer and T the gather's, the solution of
-//     L = Le + rho D + T_h L + C,   C = (T - T_h) L
-// solves L = Le + rho D + T L. Each pass adds to every leaf side's correction C (RadianceHierarchy,
-// added in leafRadiance) the difference between G and its current indirect light, then the gather
-// sweeps converge with the links (iterate). The error falls by the norm of (I - T_h)^-1 (T - T_h)
-// per pass, small where the links are nearly right: the relative change of the correction was
-// 2.2 % then 0.1 % on the modern hall, 1.3 % then 0.05 % on the Cornell box. The rays are the same
-// in every pass (the same sampler seeds), so that the passes converge to the fixed point of one
-// estimator rather than wander with new noise.
-//
-// The difference is taken as its mean over the patch side's exposed area, not per leaf: per leaf,
-// 64 rays showed as blotches on the Cornell box's walls; the links' error it corrects (a cluster's
-// one visible fraction, a far link's form factor) varies slowly over a patch. Measured on the
-// modern hall (variant C of docs/benchmarks.md), per patch keeps about three quarters of what per
-// leaf gains: walls 0.954 -> 0.960 (0.961 per leaf) of the path tracer.
+// The final gather's passes (final_gather.cpp): each gathers the indirect light with rays and
+// corrects the solution, and the gather sweeps then converge with the correction, until it
+// changes by less than kFinalGatherChange.
 void RadiositySolver::finalGather() {
     const std::vector<int> leaves = mesh_.leafElements();
     radiance_->clearCorrection();
     for (int pass = 1; pass <= kMaxFinalGatherPasses; ++pass) {
         const std::string stage = "final gather " + std::to_string(pass);
         beginStage(stage + ": rays", mesh_.leafCount());
-        const uint64_t raysBefore = finalGatherRays_;
-        const std::vector<Color> gathered = gatherIndirect(leaves);
-        // The change of each patch side's correction: the exposed-area mean of G less the
-        // indirect light over its leaves.
-        const size_t nodes = radiance_->nodeCount();
-        std::vector<Color> patchDelta(2 * mesh_.patchCount(), Color(0.0f));
-        std::vector<double> patchArea(2 * mesh_.patchCount(), 0.0);
-        for (size_t nd = 0; nd < nodes; ++nd) {
-            if (!(gathered[nd].r >= 0.0f))
-                continue;
-            const int n = static_cast<int>(nd);
-            const double area = mesh_.area(element(n)) * exposure_->fraction(n);
-            const int root = node(mesh_.patch(element(n)), front(n));
-            patchDelta[root] += static_cast<float>(area) *
-                                (gathered[nd] - (radiance_->L(n) - radiance_->emission(n) -
-                                                 radiance_->elementDirect(element(n), front(n))));
-            patchArea[root] += area;
-        }
-        // Area-weighted L1 norms of the change and of the gathered light, over leaf sides.
-        double change = 0.0, norm = 0.0;
-        for (size_t nd = 0; nd < nodes; ++nd) {
-            if (!(gathered[nd].r >= 0.0f))
-                continue;
-            const int n = static_cast<int>(nd);
-            const int root = node(mesh_.patch(element(n)), front(n));
-            const Color delta = patchDelta[root] / static_cast<float>(patchArea[root]);
-            radiance_->addCorrection(n, delta);
-            const double area = mesh_.area(element(n)) * exposure_->fraction(n);
-            change += area * channelSum(glm::abs(delta));
-            norm += area * channelSum(gathered[nd]);
-        }
-        const double relativeChange = norm > 0.0 ? change / norm : 0.0;
+        const uint64_t raysBefore = finalGather_->rays();
+        const double relativeChange = finalGather_->pass(leaves, progress_);
         std::ostringstream summary;
         summary.precision(3);
-        summary << finalGatherRays_ - raysBefore << " rays, change " << relativeChange;
+        summary << finalGather_->rays() - raysBefore << " rays, change " << relativeChange;
         endStage(summary.str());
         finalGatherPasses_ = pass;
         iterate(settings_.convergence, rounds_, stage + ": gather");
@@ -287,63 +228,10 @@ void RadiositySolver::finalGather() {
     }
 }
 
-// The reflected radiance of the leaf side a final-gather ray meets, flat as the solution holds it
-// (the Gouraud-interpolated values of the view mix the sides of a crease at its vertices, and their
-// mean over an element is not the element's, which the fluxes and the links use).
-Color RadiositySolver::reflectedAt(const MeshedHit& y) const {
-    const int leaf = mesh_.locate(y.hit.mesh, y.hit.triangle, y.hit.barycentric).element;
-    const auto [e, side] =
-        leafSideSeenAt(scene_, mesh_, exposure_->coincident(), leaf, y.front, y.hit.p);
-    const int n = node(e, side);
-    return glm::max(radiance_->L(n) - radiance_->emission(n), Color(0.0f));
-}
-
 int RadiositySolver::finalGatherRays() const {
     if (settings_.finalGatherRays != RadiositySettings::kAutoFinalGather)
         return settings_.finalGatherRays;
     return clusters_ ? RadiositySettings::kClusterFinalGatherRays : 0;
-}
-
-// G of finalGather() for every exposed side of `leaves` that reflects, per node; -1 elsewhere.
-std::vector<Color> RadiositySolver::gatherIndirect(const std::vector<int>& leaves) {
-    const auto n = static_cast<uint32_t>(finalGatherRays());
-    std::vector<Color> gathered(radiance_->nodeCount(), Color(-1.0f));
-    tbb::combinable<uint64_t> rays([] { return uint64_t(0); });
-    parallelForWithProgress(leaves.size(), progress_, [&](size_t i) {
-        const int e = leaves[i];
-        const Color rho = mesh_.rho(e);
-        if (!(maxComponent(rho) > 0.0f))
-            return;
-        uint64_t& count = rays.local();
-        for (const bool side : {true, false}) {
-            const int nd = node(e, side);
-            if (!exposure_->exposed(nd))
-                continue;
-            Sampler sampler(kFinalGatherSeed);
-            Color sum(0.0f);
-            uint32_t used = 0;
-            for (uint32_t k = 0; k < n; ++k) {
-                sampler.startPixelSample(IVec2(e, side ? 0 : 1), k);
-                const ElementSample x = sampleElement(scene_, mesh_, e, sampler.get2D());
-                const Vec3 normal = side ? x.n : -x.n;
-                if (exposure_->partlyCovered(nd) && exposure_->covered(e, x, normal, count))
-                    continue;
-                const Vec3 w =
-                    Frame::fromNormal(normal).toWorld(sampleCosineHemisphere(sampler.get2D()));
-                ++used;
-                const std::optional<MeshedHit> y = firstMeshedHit(
-                    scene_, mesh_, Ray{offsetRayOrigin(x.p, x.pError, x.n, w), w}, count);
-                if (y)
-                    sum += y->transmittance * reflectedAt(*y);
-            }
-            if (used > 0)
-                gathered[static_cast<size_t>(nd)] = rho * sum / static_cast<float>(used);
-        }
-    });
-    const uint64_t cast = rays.combine(std::plus<uint64_t>());
-    finalGatherRays_ += cast;
-    rays_ += cast;
-    return gathered;
 }
 
 void RadiositySolver::computeVertexValues() {
@@ -554,7 +442,7 @@ PassStats RadiositySolver::stats() const {
             {"residual", formatStat(last.change)},
             {"error_bound", formatStat(last.errorBound)},
             {"converged", converged_ ? "yes" : "no"},
-            {"rays", std::to_string(rays_ + refiner_->rays())},
+            {"rays", std::to_string(rays_ + refiner_->rays() + finalGather_->rays())},
             {"deposited_photons", std::to_string(deposits ? deposits->count() : 0)},
             {"deposited_flux_lm", formatStat(depositedFlux)},
             {"direct_flux_lm", formatStat(directFlux)},
@@ -567,7 +455,7 @@ PassStats RadiositySolver::stats() const {
             {"seconds_solve", formatStat(secondsSolve_)},
             {"final_gather_rays_per_side", std::to_string(finalGatherRays())},
             {"final_gather_passes", std::to_string(finalGatherPasses_)},
-            {"final_gather_rays", std::to_string(finalGatherRays_)},
+            {"final_gather_rays", std::to_string(finalGather_->rays())},
             {"seconds_final_gather", formatStat(secondsFinalGather_)},
             {"seconds", formatStat(secondsTotal_)},
             {"peak_memory_mib_direct", formatStat(peakDirect_)},

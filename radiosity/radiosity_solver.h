@@ -96,6 +96,7 @@ namespace penumbra {
 
 class DirectIrradiance;
 class ElementExposure;
+class FinalGather;
 class LinkHierarchy;
 class LinkRefiner;
 class RadianceHierarchy;
@@ -169,11 +170,9 @@ class RadiositySolver : public RadiositySolution {
     [[noreturn]] void throwDivergence(const std::string& stage, double growth) const;
     // Reports itself as the progress stage `stage`.
     void iterate(double threshold, int round, const std::string& stage);
-    // The final gather's passes (finalGather in radiosity_solver.cpp), each a stage with its
-    // gather sweeps; gatherIndirect() advances the current stage by one per leaf.
+    // The final gather's passes (final_gather.h), each a stage of rays, one per leaf, then its
+    // gather sweeps.
     void finalGather();
-    std::vector<Color> gatherIndirect(const std::vector<int>& leaves);
-    Color reflectedAt(const MeshedHit& hit) const;
     void computeVertexValues();
     // The progress sink of solve(), if any (these do nothing without one).
     void beginStage(const std::string& name, uint64_t total);
@@ -190,6 +189,7 @@ class RadiositySolver : public RadiositySolution {
     std::unique_ptr<LinkHierarchy> links_;
     std::unique_ptr<RadianceHierarchy> radiance_;
     std::unique_ptr<LinkRefiner> refiner_;
+    std::unique_ptr<FinalGather> finalGather_;
 
     std::vector<RadiosityIteration> iterations_;
     bool converged_ = false;
@@ -202,7 +202,6 @@ class RadiositySolver : public RadiositySolution {
     SolveProgress* progress_ = nullptr;  // during solve() only
     uint64_t rays_ = 0;
     int finalGatherPasses_ = 0;
-    uint64_t finalGatherRays_ = 0;
     double secondsDirect_ = 0, secondsLinking_ = 0, secondsSolve_ = 0, secondsRefine_ = 0,
            secondsFinalGather_ = 0, secondsTotal_ = 0;
     double peakDirect_ = 0, peakLinking_ = 0, peakRefine_ = 0, peakSolve_ = 0;  // MiB
