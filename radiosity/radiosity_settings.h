@@ -19,7 +19,7 @@ struct RadiositySettings {
     // are ProgressiveSettings (progressive_solver.h).
     std::string solver = "hierarchical";
     // Refinement threshold: a link is refined while the error it makes in the receiver's radiance
-    // (RadiositySolver's oracle, radiosity_solver.cpp) exceeds epsilon times the scene's mean
+    // (the refinement oracle, link_refiner.cpp) exceeds epsilon times the scene's mean
     // radiance or, from the first refinement round on, epsilon times what the receiver itself
     // reflects in any channel (exceedsThreshold). Dimensionless; smaller is finer and slower.
     float epsilon = 1e-2f;
@@ -47,8 +47,8 @@ struct RadiositySettings {
     float subdivisionThreshold = 0.0f;
     // Final gather after the solve: rays per leaf side, cosine-distributed from stratified points
     // of it, that gather its indirect light from the solution; each patch side's mean difference
-    // from the links' gather corrects the solution (finalGather in radiosity_solver.cpp). 0 = off;
-    // kAutoFinalGather = kClusterFinalGatherRays when the solver starts from clusters, else off.
+    // from the links' gather corrects the solution (final_gather.cpp). 0 = off; kAutoFinalGather
+    // = kClusterFinalGatherRays when the solver starts from clusters, else off.
     static constexpr int kAutoFinalGather = -1;
     static constexpr int kClusterFinalGatherRays = 64;
     static constexpr int kMaxFinalGatherRays = 65536;

@@ -3,36 +3,26 @@
 #include "radiosity/radiosity_solver.h"
 
 #include "core/errors.h"
-#include "core/sampler.h"
-#include "core/sampling.h"
 #include "core/scene.h"
 #include "core/stats.h"
+#include "radiosity/cluster_tree.h"
 #include "radiosity/direct_irradiance.h"
 #include "radiosity/element_exposure.h"
 #include "radiosity/element_sampling.h"
 #include "radiosity/final_gather.h"
-#include "radiosity/form_factor.h"
 #include "radiosity/gather_divergence.h"
 #include "radiosity/link_hierarchy.h"
 #include "radiosity/link_refiner.h"
 #include "radiosity/link_transfer.h"
-#include "radiosity/meshed_hit.h"
 #include "radiosity/radiance_hierarchy.h"
 #include "radiosity/solver_nodes.h"
 
-#include <tbb/combinable.h>
-#include <tbb/parallel_for.h>
-
 #include <algorithm>
-#include <bit>
 #include <chrono>
 #include <cmath>
 #include <limits>
 #include <numeric>
-#include <optional>
 #include <sstream>
-#include <tuple>
-#include <unordered_map>
 
 namespace penumbra {
 

@@ -36,7 +36,7 @@
 // ceiling over a lamp that hangs just under it), part of an element side sees nothing and is seen
 // by nothing (isCovered, element_sampling.h). Each element side's L, D and the sum above are means
 // over its exposed part only, F_ij V_ij that part's transfer (visibility() and exposedFormFactor
-// in radiosity_solver.cpp), so that an element straddling the foot of a block shows, and sends,
+// in link_transfer.cpp), so that an element straddling the foot of a block shows, and sends,
 // the light of its lit part rather than its mean with the dark part under the block; a wholly
 // covered side has L = Le and no links. The inner sides of closed solids with no light inside
 // (sealed_interiors.h: stair treads, table tops modelled as boxes) are wholly covered whatever
@@ -48,7 +48,7 @@
 // Clustering: above RadiositySettings::clusterMinPatches patches, the patches are grouped in a
 // bounding-volume hierarchy of clusters (cluster_tree.h) and links may also join a cluster to a
 // cluster or to an element, with the isotropic cluster model of Sillion 1995 (see
-// radiosity_solver.cpp, clusterKernel): a cluster gathers one radiance that it pushes to the
+// link_transfer.cpp, clusterKernel): a cluster gathers one radiance that it pushes to the
 // element sides inside it (weighted to first order by their facing, sweepCluster), and shows the
 // others the area-weighted mean radiance of its sides, weighted to first order by how its sides
 // face the receiver (clusterRadianceToward). The model is approximate, and the oracle
@@ -59,49 +59,48 @@
 // Final gather (RadiositySettings::finalGatherRays): after the solve, rays from every leaf side
 // gather the indirect light the solution sends it, and each patch side's mean difference from what
 // its links gathered becomes a correction that the gather sweeps then carry through every bounce
-// (finalGather in radiosity_solver.cpp): the links' transfer error, which clusters make largest,
-// is taken out at the cost of a few rays per leaf. By default it runs when the solver starts from
-// clusters: without them the links alone are within 2.4 % on the Cornell box, and the gather's
-// per-patch correction moved its small short-block face by 3 % (docs/benchmarks.md, "The final
-// gather"); with them the links' transfer was 10 % off in a closed room.
+// (final_gather.cpp): the links' transfer error, which clusters make largest, is taken out at the
+// cost of a few rays per leaf. By default it runs when the solver starts from clusters: without
+// them the links alone are within 2.4 % on the Cornell box, and the gather's per-patch correction
+// moved its small short-block face by 3 % (docs/benchmarks.md, "The final gather"); with them the
+// links' transfer was 10 % off in a closed room.
+//
+// The solver runs the stages of solve() over parts that each own their state:
+//   ElementExposure (element_exposure.h)       the exposed part of every element side;
+//   DirectIrradiance (direct_irradiance.h)     D, the punctual lights' and deposited flux's;
+//   LinkTransfer (link_transfer.h)             form factors, kernel samples, visibility and the
+//                                              cluster kernel of a link;
+//   LinkHierarchy (link_hierarchy.h)           the links and their children's shares;
+//   RadianceHierarchy (radiance_hierarchy.h)   every node's radiance: gather and push-pull;
+//   LinkRefiner (link_refiner.h)               the oracle, which makes the links and splits;
+//   FinalGather (final_gather.h)               the final gather's rays and correction.
 #pragma once
 
 #include "core/math.h"
 #include "core/stats.h"
-#include "radiosity/cluster_tree.h"
-#include "radiosity/coincident_faces.h"
 #include "radiosity/deposited_flux.h"
-#include "radiosity/element_sampling.h"
-#include "radiosity/link_transfer.h"
 #include "radiosity/radiosity_mesh.h"
 #include "radiosity/radiosity_settings.h"
 #include "radiosity/radiosity_solution.h"
-#include "radiosity/sealed_interiors.h"
 #include "radiosity/solve_progress.h"
 #include "radiosity/vertex_values.h"
 
-#include <algorithm>
-#include <array>
-#include <cmath>
 #include <cstdint>
-#include <functional>
 #include <memory>
-#include <optional>
 #include <string>
-#include <unordered_map>
-#include <utility>
 #include <vector>
 
 namespace penumbra {
 
+class ClusterTree;
 class DirectIrradiance;
 class ElementExposure;
 class FinalGather;
 class LinkHierarchy;
 class LinkRefiner;
+class LinkTransfer;
 class RadianceHierarchy;
 class Scene;
-struct MeshedHit;
 
 // One gather sweep, for the log and for tests of convergence.
 struct RadiosityIteration {
