@@ -29,7 +29,7 @@ void DirectIrradiance::inherit(int childNode, int parentNode) {
 // For each element: the irradiance of every delta light (point, spot, directional) at n
 // stratified points with one shadow ray each, divided by pi, on the side facing the light
 // (punctualDirect, element_sampling.h); its mean is the element's D and its spread (max - min over
-// the points) what the solver's refineDirect() weighs. rho D is the reflected
+// the points) what LinkRefiner::refineDirect() weighs. rho D is the reflected
 // radiance of the Lambertian element: the punctual lights "shoot" into the elements before the
 // gather starts (as the sources of the first step of progressive radiosity, Cohen, Chen, Wallace
 // and Greenberg 1988). The deposited flux (the caustic photons', deposited_flux.h) adds its mean

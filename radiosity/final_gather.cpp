@@ -50,7 +50,7 @@ FinalGather::FinalGather(const Scene& scene, const RadiosityMesh& mesh,
 //     L = Le + rho D + T_h L + C,   C = (T - T_h) L
 // solves L = Le + rho D + T L. Each pass adds to every leaf side's correction C (RadianceHierarchy,
 // added in leafRadiance) the difference between G and its current indirect light, then the gather
-// sweeps converge with the links (RadiositySolver::iterate). The error falls by the norm of
+// sweeps converge with the links (GatherIteration::run). The error falls by the norm of
 // (I - T_h)^-1 (T - T_h) per pass, small where the links are nearly right: the relative change of
 // the correction was 2.2 % then 0.1 % on the modern hall, 1.3 % then 0.05 % on the Cornell box.
 // The rays are the same in every pass (the same sampler seeds), so that the passes converge to the

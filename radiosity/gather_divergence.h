@@ -1,4 +1,4 @@
-// The hierarchical solver's guard against a diverging gather (RadiositySolver::iterate). The
+// The hierarchical solver's guard against a diverging gather (GatherIteration::run). The
 // iteration is a contraction in the area-weighted L1 norm when every receiver's rho times the sum
 // of its form factors is below 1 (by reciprocity, A_i F_ij = A_j F_ji, the norm of rho F is the
 // largest such sum), so its absolute changes fall sweep after sweep; the first sweeps of a round

@@ -39,7 +39,7 @@ struct KernelSamples {
 // The visible fractions (means over the channels) of the four children of a link's receiver
 // and of its source (RadiosityMesh::childAt), split yet or not, from the link's own shadow
 // rays binned by the child each end of a ray falls in; kNoRays where none fell. Stored in
-// steps of 1/254: they only share the link's transfer among the children (the solver's
+// steps of 1/254: they only share the link's transfer among the children (LinkHierarchy's
 // setSourceWeights, setReceiverWeights).
 struct ChildVisibility {
     static constexpr uint8_t kNoRays = 255;
@@ -92,8 +92,8 @@ class LinkTransfer {
     // pair takes a cheaper rule.
     float formFactor(int receiver, int source, const KernelSamples* samples = nullptr) const;
     KernelSamples kernelSamples(int receiver, int source) const;
-    // The relative gradient of the link's form factor over its receiver (the solver's Link::g);
-    // sets `limiter` to the factor that keeps it non-negative.
+    // The relative gradient of the link's form factor over its receiver (Link::g,
+    // link_hierarchy.h); sets `limiter` to the factor that keeps it non-negative.
     Vec3 linearModel(int receiver, const KernelSamples& samples, float F, float& limiter) const;
     // Visible fraction between two nodes. Adds the shadow rays it casts to `rays`; `adaptive`
     // may stop after a few that agree. With `children`, also the ends' children's visible

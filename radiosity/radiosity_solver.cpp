@@ -2,7 +2,6 @@
 // refinement oracle, a linear push and links carrying form factor times visibility.
 #include "radiosity/radiosity_solver.h"
 
-#include "core/errors.h"
 #include "core/scene.h"
 #include "core/stats.h"
 #include "radiosity/cluster_tree.h"
@@ -10,7 +9,7 @@
 #include "radiosity/element_exposure.h"
 #include "radiosity/element_sampling.h"
 #include "radiosity/final_gather.h"
-#include "radiosity/gather_divergence.h"
+#include "radiosity/gather_iteration.h"
 #include "radiosity/link_hierarchy.h"
 #include "radiosity/link_refiner.h"
 #include "radiosity/link_transfer.h"
@@ -19,8 +18,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cmath>
-#include <limits>
 #include <numeric>
 #include <sstream>
 
@@ -36,13 +33,6 @@ constexpr double kFinalGatherChange = 1e-2;
 // Threshold of the intermediate solves between refinement rounds: the oracle only needs the
 // radiance to a few percent.
 constexpr double kRoundConvergence = 2e-2;
-
-// Relative change of a sweep below which it is rounding (iterate): a tenth of float's epsilon,
-// as the area-weighted L1 change of one element's last bit is smaller still.
-constexpr double kRoundingChange = 0.1 * std::numeric_limits<float>::epsilon();
-
-// Units of a gather stage's progress (iterate): the fraction of the way to the threshold.
-constexpr uint64_t kGatherProgressUnits = 1000;
 
 // Passes of adaptive subdivision (subdivision_threshold) after the refinement rounds.
 constexpr int kSubdivisionPasses = 4;
@@ -84,6 +74,8 @@ RadiositySolver::RadiositySolver(const Scene& scene, RadiosityMesh& mesh,
     refiner_ =
         std::make_unique<LinkRefiner>(mesh_, settings_, *exposure_, *irradiance_, clusters_.get(),
                                       *transfer_, *links_, *radiance_, split, settle);
+    iteration_ = std::make_unique<GatherIteration>(scene_, mesh_, *links_, *radiance_,
+                                                   settings_.maxIterations);
     finalGather_ =
         std::make_unique<FinalGather>(scene_, mesh_, *exposure_, *radiance_, finalGatherRays());
     resizeArrays();
@@ -110,81 +102,12 @@ size_t RadiositySolver::linkCount() const {
     return links_->linkCount();
 }
 
-// Sweeps until the estimated relative error is below `threshold`. The estimate is the a
-// posteriori bound of a contraction, ||L_k - L*|| <= q / (1 - q) ||L_k - L_{k-1}|| (Banach's
-// fixed-point theorem's a posteriori estimate; e.g. Kress 1998, "Numerical Analysis", chapter 3),
-// with the contraction
-// factor q measured as the largest ratio of successive changes over the last three sweeps. A
-// change alone would stop far too early for rho near 1, where it is only (1 - q) times the
-// remaining error. A change under the float radiance's own rounding (kRoundingChange) ends the
-// iteration as a zero change does: there the sweeps only flip last bits, so the ratio of
-// successive changes is 1 and the estimate infinite (seen in a furnace with a block on its floor,
-// refined further than by the defaults: one element's last bit alternated for all 5000 sweeps of
-// max_iterations).
-// A refinement splits the same transfer among more links and leaves the spectral radius of the
-// iteration about where it was: the gathers after the first take the largest q measured so far
-// for their first three sweeps (each round's gather used to need four sweeps to estimate q anew,
-// mostly after the first already met its threshold).
-void RadiositySolver::iterate(double threshold, int round, const std::string& stage) {
-    beginStage(stage, kGatherProgressUnits);
-    links_->updateChildWeights();
-    std::vector<double> changes, absoluteChanges;
-    converged_ = false;
-    // The bar measures the error's way down on a log scale, from the first sweep's change to the
-    // threshold: the error of a contraction falls geometrically, so the bar moves at a steady rate
-    // and its ETA holds.
-    const size_t firstSweep = iterations_.size();
-    uint64_t reported = 0;
-    const auto report = [&](double error) {
-        const double first = changes.front();
-        double f = 1.0;
-        if (error > threshold && first > threshold)
-            f = std::clamp(std::log(first / error) / std::log(first / threshold), 0.0, 1.0);
-        const auto units = static_cast<uint64_t>(f * kGatherProgressUnits);
-        if (units > reported) {
-            advanceStage(units - reported);
-            reported = units;
-        }
-    };
-    while (iterations_.size() < static_cast<size_t>(settings_.maxIterations)) {
-        RadiosityIteration it;
-        it.round = round;
-        const ChangeSums sums = radiance_->sweep();
-        it.change = sums.norm > 0.0 ? sums.change / sums.norm : 0.0;
-        changes.push_back(it.change);
-        absoluteChanges.push_back(sums.change);
-        if (gatherDiverges(absoluteChanges))
-            throwDivergence(stage,
-                            absoluteChanges.back() /
-                                absoluteChanges[absoluteChanges.size() - 1 - kDivergenceSweeps]);
-        it.errorBound = std::numeric_limits<double>::infinity();
-        if (it.change < kRoundingChange) {
-            it.errorBound = it.change;
-        } else if (changes.size() >= 4) {
-            double q = 0.0;
-            for (size_t k = changes.size() - 3; k < changes.size(); ++k)
-                q = std::max(q, changes[k] / changes[k - 1]);
-            contraction_ = std::max(contraction_, q);
-            if (q < 1.0)
-                it.errorBound = it.change * q / (1.0 - q);
-        } else if (contraction_ >= 0.0 && contraction_ < 1.0) {
-            it.errorBound = it.change * contraction_ / (1.0 - contraction_);
-        }
-        iterations_.push_back(it);
-        report(std::isfinite(it.errorBound) ? it.errorBound : it.change);
-        if (it.errorBound < threshold) {
-            converged_ = true;
-            break;
-        }
-    }
-    std::ostringstream summary;
-    summary.precision(3);
-    const size_t sweeps = iterations_.size() - firstSweep;
-    summary << sweeps << (sweeps == 1 ? " sweep" : " sweeps") << ", residual "
-            << (iterations_.empty() ? 0.0 : iterations_.back().change) << ", error bound "
-            << (iterations_.empty() ? 0.0 : iterations_.back().errorBound)
-            << (converged_ ? "" : ", not converged");
-    endStage(summary.str());
+bool RadiositySolver::converged() const {
+    return iteration_->converged();
+}
+
+const std::vector<RadiosityIteration>& RadiositySolver::iterations() const {
+    return iteration_->iterations();
 }
 
 Color RadiositySolver::elementDirect(int e, bool side) const {
@@ -211,7 +134,7 @@ void RadiositySolver::finalGather() {
         summary << finalGather_->rays() - raysBefore << " rays, change " << relativeChange;
         endStage(summary.str());
         finalGatherPasses_ = pass;
-        iterate(settings_.convergence, rounds_, stage + ": gather");
+        iteration_->run(settings_.convergence, rounds_, stage + ": gather", progress_);
         computeVertexValues();
         if (relativeChange < kFinalGatherChange)
             break;
@@ -239,11 +162,6 @@ void RadiositySolver::computeVertexValues() {
 void RadiositySolver::beginStage(const std::string& name, uint64_t total) {
     if (progress_)
         progress_->beginStage(name, total);
-}
-
-void RadiositySolver::advanceStage(uint64_t work) {
-    if (progress_)
-        progress_->advance(work);
 }
 
 void RadiositySolver::endStage(const std::string& summary) {
@@ -293,7 +211,7 @@ void RadiositySolver::solve(SolveProgress* progress) {
     // Stage 3: gather sweeps and refinement rounds.
     const double roundThreshold = std::max(settings_.convergence, kRoundConvergence);
     stageStart = std::chrono::steady_clock::now();
-    iterate(roundThreshold, 0, "gather");
+    iteration_->run(roundThreshold, 0, "gather", progress_);
     secondsSolve_ += secondsSince(stageStart);
     // One refinement step, then, if it changed anything, the solve of the new round.
     int round = 0;
@@ -309,7 +227,7 @@ void RadiositySolver::solve(SolveProgress* progress) {
             return false;
         rounds_ = ++round;
         stageStart = std::chrono::steady_clock::now();
-        iterate(roundThreshold, round, "gather, round " + std::to_string(round));
+        iteration_->run(roundThreshold, round, "gather, round " + std::to_string(round), progress_);
         secondsSolve_ += secondsSince(stageStart);
         return true;
     };
@@ -328,7 +246,7 @@ void RadiositySolver::solve(SolveProgress* progress) {
             break;
     }
     stageStart = std::chrono::steady_clock::now();
-    iterate(settings_.convergence, round, "gather to convergence");
+    iteration_->run(settings_.convergence, round, "gather to convergence", progress_);
     beginStage("push-pull of the direct part, vertex values", 0);
     radiance_->computeDirectPart(*irradiance_);
     computeVertexValues();
@@ -364,34 +282,6 @@ Color RadiositySolver::indirectRadiance(uint32_t mesh, uint32_t triangle, Vec3 b
     return vertexIndirect_.interpolate(mesh_, mesh_.locate(mesh, triangle, b), front);
 }
 
-// A diverging gather comes from the scene: some receiver's rho times the sum of its form factors
-// exceeds 1, which closed geometry cannot do unless surfaces are counted twice. Coincident faces
-// in one plane are counted once (coincident_faces.h; they caused this in the modern hall);
-// whatever else still does it, the error names the scene mesh and the place where the radiance
-// grew most, the brightest leaf.
-void RadiositySolver::throwDivergence(const std::string& stage, double growth) const {
-    int brightest = -1;
-    float most = -1.0f;
-    for (size_t n = 0; n < radiance_->nodeCount(); ++n) {
-        const int e = element(static_cast<int>(n));
-        const Color& L = radiance_->L(static_cast<int>(n));
-        if (mesh_.isLeaf(e) && maxComponent(L) > most) {
-            most = maxComponent(L);
-            brightest = e;
-        }
-    }
-    const SceneDescription& description = scene_.description();
-    const Mesh& mesh = description.meshes[mesh_.sceneMesh(brightest)];
-    const glm::dvec3 at = glm::dvec3(mesh_.centroid(brightest)) + description.origin;
-    std::ostringstream message;
-    message << "mesh " << mesh.name << ", around (" << at.x << ", " << at.y << ", " << at.z
-            << ") m: the radiosity gather diverges in " << stage << " (the change of a sweep grew "
-            << kDivergenceSweeps << " sweeps in a row, " << growth
-            << " times in all): rho times the sum of a receiver's form factors exceeds 1 there, "
-               "surfaces counted twice (duplicated or interpenetrating geometry?)";
-    throw SceneError(description.file, mesh.source, message.str());
-}
-
 // --- Statistics --------------------------------------------------------------------------------
 
 PassStats RadiositySolver::stats() const {
@@ -403,7 +293,8 @@ PassStats RadiositySolver::stats() const {
                     links_->clusters() * (sizeof(Cluster) + sizeof(std::vector<Link>));
     memory += vertexReflected_.memoryBytes() + vertexIndirect_.memoryBytes() +
               radiance_->directPartBytes() + exposure_->memoryBytes();
-    const RadiosityIteration last = iterations_.empty() ? RadiosityIteration{} : iterations_.back();
+    const std::vector<RadiosityIteration>& iterations = iteration_->iterations();
+    const RadiosityIteration last = iterations.empty() ? RadiosityIteration{} : iterations.back();
     // The reflected luminous flux of each part, pi sum A Y(L) over the leaf sides (lm).
     double directFlux = 0.0, indirectFlux = 0.0;
     for (size_t e = 0; e < mesh_.elementCount(); ++e) {
@@ -428,10 +319,10 @@ PassStats RadiositySolver::stats() const {
             {"links", std::to_string(links)},
             {"refinement_rounds", std::to_string(rounds_)},
             {"refined_links", std::to_string(refiner_->refinedLinks())},
-            {"iterations", std::to_string(iterations_.size())},
+            {"iterations", std::to_string(iterations.size())},
             {"residual", formatStat(last.change)},
             {"error_bound", formatStat(last.errorBound)},
-            {"converged", converged_ ? "yes" : "no"},
+            {"converged", converged() ? "yes" : "no"},
             {"rays", std::to_string(rays_ + refiner_->rays() + finalGather_->rays())},
             {"deposited_photons", std::to_string(deposits ? deposits->count() : 0)},
             {"deposited_flux_lm", formatStat(depositedFlux)},

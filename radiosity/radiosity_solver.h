@@ -73,12 +73,14 @@
 //   LinkHierarchy (link_hierarchy.h)           the links and their children's shares;
 //   RadianceHierarchy (radiance_hierarchy.h)   every node's radiance: gather and push-pull;
 //   LinkRefiner (link_refiner.h)               the oracle, which makes the links and splits;
+//   GatherIteration (gather_iteration.h)       the sweeps until convergence, and their record;
 //   FinalGather (final_gather.h)               the final gather's rays and correction.
 #pragma once
 
 #include "core/math.h"
 #include "core/stats.h"
 #include "radiosity/deposited_flux.h"
+#include "radiosity/radiosity_iteration.h"
 #include "radiosity/radiosity_mesh.h"
 #include "radiosity/radiosity_settings.h"
 #include "radiosity/radiosity_solution.h"
@@ -96,18 +98,12 @@ class ClusterTree;
 class DirectIrradiance;
 class ElementExposure;
 class FinalGather;
+class GatherIteration;
 class LinkHierarchy;
 class LinkRefiner;
 class LinkTransfer;
 class RadianceHierarchy;
 class Scene;
-
-// One gather sweep, for the log and for tests of convergence.
-struct RadiosityIteration {
-    int round = 0;          // 0 = before any refinement, then one per refinement round
-    double change = 0.0;    // ||L_k - L_{k-1}|| / ||L_k||, area-weighted L1 over leaf sides
-    double errorBound = 0;  // estimated ||L_k - L*|| / ||L_k|| (infinity until it can be estimated)
-};
 
 class RadiositySolver : public RadiositySolution {
   public:
@@ -137,9 +133,9 @@ class RadiositySolver : public RadiositySolution {
     // The element side's own (flat, not interpolated) radiance, emission included.
     Color elementRadiance(int element, bool front = true) const;
     // The first reflection of the sources' light on a leaf side, rho (D + sum_j K_ij Le_j) with
-    // the links of the leaf and of its ancestors (computeDirectPart), and the rest of its
-    // reflected light, max(0, L - Le - direct): the paths L D E and L D D+ E ending there (cd/m²).
-    // Zero before solve() ends and for elements that are not leaves.
+    // the links of the leaf and of its ancestors (RadianceHierarchy::computeDirectPart), and the
+    // rest of its reflected light, max(0, L - Le - direct): the paths L D E and L D D+ E ending
+    // there (cd/m²). Zero before solve() ends and for elements that are not leaves.
     Color elementDirect(int element, bool front = true) const;
     Color elementIndirect(int element, bool front = true) const;
 
@@ -149,11 +145,11 @@ class RadiositySolver : public RadiositySolution {
     const LinkTransfer& linkTransfer() const { return *transfer_; }
     Color leafRadiance(int node, const Color& H) const;
 
-    bool converged() const { return converged_; }
+    bool converged() const;
     size_t linkCount() const;
     // The final gather's rays per leaf side, RadiositySettings::finalGatherRays with auto resolved.
     int finalGatherRays() const;
-    const std::vector<RadiosityIteration>& iterations() const { return iterations_; }
+    const std::vector<RadiosityIteration>& iterations() const;
     // Patches, elements, leaves, clusters (0 without clustering), links, refinement rounds, sweeps
     // ("iterations"), the last relative change ("residual") and error bound, rays, a memory
     // estimate, and seconds per stage: direct (the punctual lights' first shot), linking (initial
@@ -165,17 +161,12 @@ class RadiositySolver : public RadiositySolution {
 
   private:
     void resizeArrays();
-    // Throws SceneError naming the mesh and place of the brightest leaf (see iterate()).
-    [[noreturn]] void throwDivergence(const std::string& stage, double growth) const;
-    // Reports itself as the progress stage `stage`.
-    void iterate(double threshold, int round, const std::string& stage);
     // The final gather's passes (final_gather.h), each a stage of rays, one per leaf, then its
     // gather sweeps.
     void finalGather();
     void computeVertexValues();
     // The progress sink of solve(), if any (these do nothing without one).
     void beginStage(const std::string& name, uint64_t total);
-    void advanceStage(uint64_t work);
     void endStage(const std::string& summary);
 
     const Scene& scene_;
@@ -188,13 +179,9 @@ class RadiositySolver : public RadiositySolution {
     std::unique_ptr<LinkHierarchy> links_;
     std::unique_ptr<RadianceHierarchy> radiance_;
     std::unique_ptr<LinkRefiner> refiner_;
+    std::unique_ptr<GatherIteration> iteration_;
     std::unique_ptr<FinalGather> finalGather_;
 
-    std::vector<RadiosityIteration> iterations_;
-    bool converged_ = false;
-    // The largest contraction factor iterate() has measured so far (-1 before any), which the
-    // gathers after a refinement take until they measure their own.
-    double contraction_ = -1.0;
     int rounds_ = 0;
     SideVertexValues vertexReflected_;   // the reflected radiance, per mesh vertex and side
     SideVertexValues vertexIndirect_;    // its indirect part (elementIndirect)
