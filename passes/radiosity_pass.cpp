@@ -20,7 +20,7 @@ const NamedValues<RadiositySettings::Iteration> kIterations = {
     {"jacobi", RadiositySettings::Iteration::Jacobi}};
 
 // The script keys of the hierarchical solver (the table at the top of
-// radiosity/radiosity_solver.cpp), in the order the plan prints them; sizes of 0 are the solver's
+// radiosity/radiosity_settings.cpp), in the order the plan prints them; sizes of 0 are the solver's
 // automatic ones until the scene resolves them.
 template <typename Settings, typename Keys>
 void hierarchicalKeys(Settings& s, Keys& keys) {

@@ -4,9 +4,9 @@
 // (whichever the ray tracer returns); the radiosity mesh holds both, and without care both
 // receive and both send the same light. A surface seen twice over a whole room makes the sum of
 // rho times the form factors pass 1 and the gather diverge (the modern hall's wallpaper lies on
-// 37 m² of its wall; docs/benchmarks.md). The shadow rays cannot tell: a ray towards a point of
-// one copy stops where the other copy is, and the probes of isCovered (element_sampling.h) start
-// above the surface by the ray offset, beyond a copy in the same plane.
+// 37 m² of its wall; docs/radiosity.md, "What the mesh leaves out"). The shadow rays cannot tell: a
+// ray towards a point of one copy stops where the other copy is, and the probes of isCovered
+// (element_sampling.h) start above the surface by the ray offset, beyond a copy in the same plane.
 //
 // So each side of the surface is given to one face, and the other face's side there is hidden:
 //  - two faces facing the same way: one wins both sides, the emitting one if one emits and the

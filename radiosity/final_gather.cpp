@@ -34,7 +34,7 @@ FinalGather::FinalGather(const Scene& scene, const RadiosityMesh& mesh,
 // Rushmeier, Patterson and Veerasamy 1993 ("Geometric Simplification for Indirect Illumination
 // Calculations", Graphics Interface '93) gather from a coarse radiosity solution. The links'
 // transfer errs where clusters stand for many patches (a receiving cluster gives all its patches
-// one visible fraction: docs/benchmarks.md, "Where the rest of the walls' deficit lies"); rays
+// one visible fraction: docs/radiosity.md, "Where the rest of the walls' deficit lies"); rays
 // see the solution itself. With x_k stratified over the side's exposed part and w_k
 // cosine-distributed about its normal,
 //     G = rho / N sum_k T_k L_r(y_k),
@@ -59,8 +59,9 @@ FinalGather::FinalGather(const Scene& scene, const RadiosityMesh& mesh,
 // The difference is taken as its mean over the patch side's exposed area, not per leaf: per leaf,
 // 64 rays showed as blotches on the Cornell box's walls; the links' error it corrects (a cluster's
 // one visible fraction, a far link's form factor) varies slowly over a patch. Measured on the
-// modern hall (variant C of docs/benchmarks.md), per patch keeps about three quarters of what per
-// leaf gains: walls 0.954 -> 0.960 (0.961 per leaf) of the path tracer.
+// modern hall (variant C of docs/radiosity.md, "How the accuracy was measured"), per patch keeps
+// about three quarters of what per leaf gains: walls 0.954 -> 0.960 (0.961 per leaf) of the path
+// tracer.
 double FinalGather::pass(const std::vector<int>& leaves, SolveProgress* progress) {
     const std::vector<Color> gathered = gatherIndirect(leaves, progress);
     // The change of each patch side's correction: the exposed-area mean of G less the

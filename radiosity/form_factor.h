@@ -53,8 +53,8 @@ double pointToPolygonFormFactor(const Vec3& p, const Vec3& n, std::span<const Ve
 // no subdivision is needed there. Measured accuracy against Howell's catalogue: order 8 is within
 // 0.5 % for opposed rectangles down to a separation of 1/20 of their side and for perpendicular
 // rectangles sharing an edge as long as the emitter is at most 5 times deeper than the receiver
-// is high; thinner receivers need more (order 16 at 50 times), see tests/form_factor_test.cpp.
-// order >= 1, else std::invalid_argument.
+// is high; thinner receivers need more (order 16 at 50 times), see
+// tests/radiosity/form_factor_test.cpp. order >= 1, else std::invalid_argument.
 double areaToAreaFormFactor(std::span<const Vec3> from, std::span<const Vec3> to, int order);
 
 // Cheap unoccluded estimate of F(dA_p -> A_q) for the refinement oracle: the element A_q (centre q,

@@ -133,7 +133,7 @@ bool LinkTransfer::mayInteract(int receiver, int source) const {
 // of triangles sharing an edge, at angles from 11 to 166 degrees and against order 40, order 8 is
 // within 3.5e-4 on average (2.8e-2 at worst, for slivers) and order 10 within 1.5e-4 (1.2e-2);
 // order 8 costs 64 point evaluations instead of 100 and keeps the closed furnace box within its
-// 1 % (tests/radiosity_test.cpp).
+// 1 % (tests/radiosity/radiosity_test.cpp).
 //
 // Far pairs wholly in front of each other (centroid distance at least kFarLink longest edges)
 // reuse the oracle's seven point values instead: the classical seven-point rule of degree 3 on the
@@ -174,7 +174,7 @@ float LinkTransfer::formFactor(int receiver, int source, const KernelSamples* sa
 // source). Taken exactly on the line, the samples put F at its smallest where it peaks: the oracle
 // saw a small, smooth kernel and left such links at coarse receivers, whose mean F the linear push
 // spreads evenly, so the receiver's elements along the contact line gathered up to a third too
-// little (the furnace with a block on its floor, tests/radiosity_robustness_test.cpp).
+// little (the furnace with a block on its floor, tests/radiosity/radiosity_robustness_test.cpp).
 KernelSamples LinkTransfer::kernelSamples(int receiver, int source) const {
     const int er = element(receiver), es = element(source);
     const Vec3 nr = front(receiver) ? mesh_.normal(er) : -mesh_.normal(er);
@@ -518,9 +518,9 @@ bool LinkTransfer::mayInteractWithCluster(int receiver, int source) const {
 //    radiate and receive from 0 to 4 times the isotropic mean: 3 K flatness.
 // Without the last two the closed furnace box forced into clusters came out 8 % low (1.3 % with
 // the flat term alone at rho = 0.9); with them it keeps the 1 % of the element links, at 5.4 M
-// links instead of 2.9 M in the modern hall (docs/benchmarks.md). `Kmax` is the kernel's largest
-// value (a side facing the source gets 4 times a receiving cluster's mean), for the visibility's
-// shortcut.
+// links instead of 2.9 M in the modern hall (docs/radiosity.md, "Clusters"). `Kmax` is the kernel's
+// largest value (a side facing the source gets 4 times a receiving cluster's mean), for the
+// visibility's shortcut.
 ClusterKernel LinkTransfer::clusterKernel(int receiver, int source) const {
     ClusterKernel k;
     const Vec3 cr = nodeCenter(receiver), cs = nodeCenter(source);

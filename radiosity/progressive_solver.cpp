@@ -335,8 +335,8 @@ ProgressiveSolver::Gain ProgressiveSolver::receive(size_t i, bool receiverFront,
 // The exact F multiplies it, so the weights only spread F over the patch: where the shooter's
 // unshot light varies (a shadow across it), a receiver close to its dark part gets less than the
 // mean. RadiositySolver weighs a link's source children in the same way (setSourceWeights).
-// Measured against the dense solve of tests/progressive_radiosity_test.cpp (16 elements per
-// patch): the mean difference of an element side drops from 0.78 % to 0.67 % of the mean
+// Measured against the dense solve of tests/radiosity/progressive_radiosity_test.cpp (16 elements
+// per patch): the mean difference of an element side drops from 0.78 % to 0.67 % of the mean
 // radiance. The patch mean is the fallback when no element is seen.
 //
 // The emission in the shot (dLe) is weighed in the same way: the shot is linear in dL, so that the

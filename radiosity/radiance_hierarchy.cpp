@@ -90,7 +90,7 @@ Color RadianceHierarchy::emission(int n) const {
 // isotropic model alone shows every viewer a quarter of a flat cluster's one-sided area: the lit
 // side of a wall seen from the room it lights at cos = 0.5 radiates twice what the model sends,
 // so in an interior, where every receiver sees the walls' lit sides, the clusters' links carried
-// too little (the modern hall's indirect light 13 % low; docs/benchmarks.md).
+// too little (the modern hall's indirect light 13 % low; docs/radiosity.md, "Clusters").
 Color RadianceHierarchy::clusterRadianceToward(int cluster, const Vec3& toward) const {
     const Vec3 d = toward - (*clusters_)[cluster].center;
     const float length = glm::length(d);

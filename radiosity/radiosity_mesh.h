@@ -19,8 +19,8 @@
 //  - Units: metres, square metres; rho is a reflectance in [0, 1] per channel; Le is a radiance
 //    in cd/m² per channel.
 //
-// Only radiosity_mesh.cpp (and sealed_interiors.cpp) sees OpenMesh (STYLE.md, "One module per
-// third-party library"); it holds the leaf elements as a polygon mesh in which an element next to
+// Only radiosity_mesh.cpp (and sealed_interiors.cpp) sees OpenMesh (CONTRIBUTING.md,
+// "Layering"); it holds the leaf elements as a polygon mesh in which an element next to
 // a finer neighbour carries that neighbour's midpoints on its edges (T-vertices, leafBoundary()).
 #pragma once
 
@@ -47,7 +47,7 @@ struct MeshingSettings {
     float minElementArea = 0.0f;
 };
 
-// Sizes for the log (STYLE.md, "Counters").
+// Sizes for the log (the solver's statistics).
 struct RadiosityMeshStats {
     size_t patches = 0;
     size_t elements = 0;  // patches and every element below them

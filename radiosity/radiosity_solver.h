@@ -53,7 +53,7 @@
 // others the area-weighted mean radiance of its sides, weighted to first order by how its sides
 // face the receiver (clusterRadianceToward). The model is approximate, and the oracle
 // weighs its error (flat clusters most): with clusters forced on, the closed furnace box still
-// gives Le / (1 - rho) within 1 % (tests/radiosity_test.cpp), at more links than without;
+// gives Le / (1 - rho) within 1 % (tests/radiosity/radiosity_test.cpp), at more links than without;
 // smaller scenes are solved without clusters.
 //
 // Final gather (RadiositySettings::finalGatherRays): after the solve, rays from every leaf side
@@ -62,7 +62,7 @@
 // (final_gather.cpp): the links' transfer error, which clusters make largest, is taken out at the
 // cost of a few rays per leaf. By default it runs when the solver starts from clusters: without
 // them the links alone are within 2.4 % on the Cornell box, and the gather's per-patch correction
-// moved its small short-block face by 3 % (docs/benchmarks.md, "The final gather"); with them the
+// moved its small short-block face by 3 % (docs/radiosity.md, "The final gather"); with them the
 // links' transfer was 10 % off in a closed room.
 //
 // The solver runs the stages of solve() over parts that each own their state:

@@ -4,9 +4,9 @@
 // and link like any other side: whatever a cluster of such solids receives was shared between
 // the outer and the inner sides, and the visible fraction of a cluster's points counted the
 // rays from its far faces, blocked by the solid itself, as occluded (in the modern hall the
-// floating stairs gathered 20-25 % less than rays from them see; docs/benchmarks.md). Knowing the
-// interior from the topology does not depend on glTF's doubleSided flag, which exporters set on
-// everything.
+// floating stairs gathered 20-25 % less than rays from them see; docs/radiosity.md, "Clusters").
+// Knowing the interior from the topology does not depend on glTF's doubleSided flag, which
+// exporters set on everything.
 //
 // A closed surface is a connected part of one scene mesh that is a consistently wound
 // edge-manifold without boundary (each edge shared by exactly two of its triangles, in opposite

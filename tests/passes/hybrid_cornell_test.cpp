@@ -23,7 +23,7 @@ constexpr int kSize = 128;  // the stored reference's size
 constexpr int kMinPixels = 30;
 // The issue asks for 3 % on every region mean. Measured (seeds 1, 2, 7): since the closed
 // solids' inner sides are sealed and the oracle also weighs each receiver's own radiance
-// (radiosity_solver.cpp, exceedsThreshold) the hybrid is within [-1.6 %, +2.5 %] (the tall
+// (radiosity/link_refiner.cpp, exceedsThreshold) the hybrid is within [-1.6 %, +2.5 %] (the tall
 // block's narrow face towards the red wall in green, +2.0 to +2.5 %, the short block's front
 // -1.6 %), the distribution pipeline within [-2.9 %, +1.7 %] on every seed (its ambient term is
 // the radiosity view's indirect part, whose short block front converges from below as epsilon

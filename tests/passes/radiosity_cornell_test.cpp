@@ -47,23 +47,24 @@ TEST(RadiosityCornellBox, EveryWallAndBlockFaceAgreesWithTheReference) {
     // The issue asks for 2 %. History (default settings): first every face and channel within
     // [-3.4 %, +3.1 %], most of them 1-2 % low; since partly occluded links weigh the children at
     // either end by their own visible fractions (setSourceWeights, setReceiverWeights in
-    // radiosity_solver.cpp) within [-2.6 %, +1.7 %]; since the solution is that of the exposed
-    // part of each element (isCovered, element_sampling.h: the ceiling leaves straddling the lamp
-    // that hangs 0.1 mm under it and the floor leaves straddling the blocks' feet showed, and
-    // sent, the mean of their lit and covered parts, 10-15 % low over a few pixels) within
+    // radiosity/link_hierarchy.cpp) within [-2.6 %, +1.7 %]; since the solution is that of the
+    // exposed part of each element (isCovered, element_sampling.h: the ceiling leaves straddling
+    // the lamp that hangs 0.1 mm under it and the floor leaves straddling the blocks' feet showed,
+    // and sent, the mean of their lit and covered parts, 10-15 % low over a few pixels) within
     // [-1.0 %, +2.9 %], above 2 % only two faces lit only indirectly, in their weak channels (the
     // short block's front +2.3 % green, the tall block's narrow face towards the red wall +2.9 %
     // green). Wholly covered sides no longer linked (2026-12-02) took away the refinement their
     // links had caused by chance: that face came out +3.2 %. The oracle now also refines a link
     // whose error is more than epsilon of what the receiver itself reflects in any channel
-    // (exceedsThreshold in radiosity_solver.cpp), and the faces converge to the reference as
+    // (exceedsThreshold in radiosity/link_refiner.cpp), and the faces converge to the reference as
     // epsilon shrinks: [-2.9 %, +1.8 %] at the default 0.01 (the short block's front, -2.3 to
     // -2.9 %, converges from below), [-1.8 %, +0.2 %] at 0.005, [-0.9 %, +0.1 %] at 0.00125. The
     // test runs at the scene's own script's 0.005 and holds the issue's 2 %. Since a link's rays
-    // go only to pairs of points that face each other (visibility() in radiosity_solver.cpp), the
-    // links that straddle a block's foot are no longer dropped when their draws missed the few
-    // facing pairs: [-1.0 %, +0.6 %] at 0.005. The bound is 1.5 %, tighter than the issue's 2 %,
-    // so that losing that again fails here (the short block's front face was -1.7 % before).
+    // go only to pairs of points that face each other (visibility() in
+    // radiosity/link_transfer.cpp), the links that straddle a block's foot are no longer dropped
+    // when their draws missed the few facing pairs: [-1.0 %, +0.6 %] at 0.005. The bound is 1.5 %,
+    // tighter than the issue's 2 %, so that losing that again fails here (the short block's front
+    // face was -1.7 % before).
     constexpr double kTolerance = 0.015;
     const int regions = expectRegionMeansNear(scene, r, p, kMinPixels, "radiosity",
                                               [](const std::string&) { return kTolerance; });

@@ -134,10 +134,11 @@ TEST(RadiosityRobustness, CoplanarTouchingTilesActAsOneFloor) {
 // form factor between the two peaks. At the default settings the block's inner sides along the
 // contact lines were 18.6 % off (its outer sides 9 %), and more with finer settings: the oracle
 // sampled the kernel exactly on the contact line, where it is 0 (kernelSamples in
-// radiosity_solver.cpp), so links stayed at coarse receivers whose elements along the line gathered
-// a third too little. Fixed, the largest error over all leaf sides, inner ones included, is 8.7 %
-// (fixed seeds: the same on every run; 9.1 % since the children of partly occluded links are
-// weighed by their own visibility from 8 rays each, radiosity_solver.cpp, setReceiverWeights),
+// radiosity/link_transfer.cpp), so links stayed at coarse receivers whose elements along the line
+// gathered a third too little. Fixed, the largest error over all leaf sides, inner ones included,
+// is 8.7 % (fixed seeds: the same on every run; 9.1 % since the children of partly occluded links
+// are weighed by their own visibility from 8 rays each, radiosity/link_hierarchy.cpp,
+// setReceiverWeights),
 // and the 10 % bound is that plus margin. What remains is
 // visibility at coarse receivers: the 16 shadow rays of a floor patch can all miss its part under
 // the block, so its links to the walls look wholly visible (the leaves under the block gather walls
