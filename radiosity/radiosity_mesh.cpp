@@ -156,16 +156,13 @@ struct RadiosityMesh::Impl {
 
 RadiosityMesh::RadiosityMesh(const Scene& scene, const MeshingSettings& settings)
     : scene_(&scene), impl_(std::make_unique<Impl>()) {
-    if (!(settings.patchEdgeLength >= 0.0f))
-        throw std::invalid_argument("radiosity mesh: patchEdgeLength must be >= 0, got " +
+    if (!(settings.patchEdgeLength > 0.0f))
+        throw std::invalid_argument("radiosity mesh: patchEdgeLength must be > 0, got " +
                                     std::to_string(settings.patchEdgeLength));
     if (!(settings.minElementArea >= 0.0f))
         throw std::invalid_argument("radiosity mesh: minElementArea must be >= 0, got " +
                                     std::to_string(settings.minElementArea));
-    const float radius = scene.bounds().empty() ? 0.0f : scene.bounds().boundingRadius();
-    patchEdgeLength_ = settings.patchEdgeLength > 0.0f ? settings.patchEdgeLength : 0.1f * radius;
-    if (!(patchEdgeLength_ > 0.0f))
-        patchEdgeLength_ = std::numeric_limits<float>::infinity();  // a scene of one point
+    patchEdgeLength_ = settings.patchEdgeLength;
     minElementArea_ = settings.minElementArea;
 
     // One face per scene triangle, sharing the scene mesh's vertices where the polygon mesh stays

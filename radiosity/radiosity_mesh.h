@@ -40,7 +40,8 @@ namespace penumbra {
 class Scene;
 
 struct MeshingSettings {
-    // Longest edge of a patch, metres; 0 = 1/10 of the scene's bounding radius.
+    // Longest edge of a patch, metres, > 0: the solvers resolve their script's "auto" to a length
+    // (RadiositySettings::meshing, ProgressiveSettings::meshing) before they mesh.
     float patchEdgeLength = 0.0f;
     // Smallest element area split() may create, m²; 0 = the element's patch area / 4^6, i.e. at
     // most six levels of 1:4 splits below each patch.

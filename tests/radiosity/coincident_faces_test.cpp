@@ -40,7 +40,9 @@ struct Meshed {
 Meshed mesh(const GltfBuilder& builder, const std::string& name) {
     Meshed m;
     m.scene = loadBuiltScene(builder, name);
-    m.mesh = std::make_unique<RadiosityMesh>(*m.scene, MeshingSettings{});
+    // Patches of a tenth of the scene's bounding radius.
+    m.mesh = std::make_unique<RadiosityMesh>(
+        *m.scene, MeshingSettings{0.1f * m.scene->bounds().boundingRadius()});
     m.coincident = std::make_unique<CoincidentFaces>(*m.mesh);
     return m;
 }

@@ -150,10 +150,9 @@ TEST(RadiosityMesh, PatchCountsOfASquare) {
             EXPECT_LE(longestEdge(mesh.corners(p)), c.length * (1.0 + kGeometryTolerance));
         }
     }
-    // Default: 1/10 of the bounding radius (sqrt(2) m), so 2.83 / 0.1414 = 20 -> n = 32.
-    const RadiosityMesh defaults(*scene, {});
-    EXPECT_FLOAT_EQ(defaults.patchEdgeLength(), 0.1f * std::sqrt(2.0f));
-    EXPECT_EQ(defaults.patchCount(), 2u * 32u * 32u);
+    // 1/10 of the bounding radius (sqrt(2) m): 2.83 / 0.1414 = 20 -> n = 32.
+    const RadiosityMesh tenth(*scene, {0.1f * std::sqrt(2.0f), 0.0f});
+    EXPECT_EQ(tenth.patchCount(), 2u * 32u * 32u);
 }
 
 TEST(RadiosityMesh, PatchesCoverTheSceneArea) {
@@ -422,7 +421,9 @@ TEST(RadiosityMesh, TransmissiveAndDegenerateInput) {
 TEST(RadiosityMesh, RefusesMisuse) {
     const auto scene = makeScene({square(1.0f)});
     EXPECT_THROW(RadiosityMesh(*scene, {-1.0f, 0.0f}), std::invalid_argument);
-    EXPECT_THROW(RadiosityMesh(*scene, {0.0f, std::nanf("")}), std::invalid_argument);
+    // No automatic length: the solvers resolve their own "auto" before they mesh.
+    EXPECT_THROW(RadiosityMesh(*scene, {}), std::invalid_argument);
+    EXPECT_THROW(RadiosityMesh(*scene, {1.0f, std::nanf("")}), std::invalid_argument);
     EXPECT_THROW(RadiosityMesh(*scene, {1e-6f, 0.0f}), std::invalid_argument);  // 2^42 patches
 
     // Children below minElementArea: the 0.5 m² patches may be split once with 0.1 m².
