@@ -406,8 +406,8 @@ TEST(Stress, FurnaceOfAlbedo099) {
 
     // Radiosity at its default settings (epsilon 0.01, elements down to 1/16384 of the area) is
     // not made for rho = 0.99: measured +9.9 %. Finite and within 15 %, and, with the settings of
-    // the solver's own rho = 0.99 furnace test (radiosity_test.cpp: elements of 1/64 of a patch,
-    // epsilon 5e-4), within the 1 % that test holds it to.
+    // the solver's own rho = 0.99 furnace test (radiosity_furnace_test.cpp: elements of 1/64 of a
+    // patch, epsilon 5e-4), within the 1 % that test holds it to.
     const Image coarse =
         render(scene, dir, "furnace", {.pipeline = kRadiosity, .size = 16, .spp = 1});
     const double coarseMean = estimate(coarse, everyPixel).mean;

@@ -52,8 +52,9 @@ FurnaceCheck checkFurnace(const Scene& scene, const RadiositySettings& settings)
     return check;
 }
 
-// Settings fine enough for 1 % in the furnace (those of tests/radiosity/radiosity_test.cpp's
-// furnace tests: at the defaults, elements in the corners of the box reach 3.5 %).
+// Settings fine enough for 1 % in the furnace (those of the furnace tests in
+// tests/radiosity/radiosity_furnace_test.cpp: at the defaults, elements in the corners of the box
+// reach 3.5 %).
 RadiositySettings fineSettings() {
     RadiositySettings s;
     s.minElementArea = 0.5f / 64.0f;

@@ -25,6 +25,14 @@ void addClosedBox(GltfBuilder& scene, int walls, int floor, float h) {
     scene.addQuad(c[3], c[2], c[6], c[7], walls);  // y = +h, faces -y
 }
 
+std::unique_ptr<Scene> furnaceBox(float rho, const std::string& name) {
+    GltfBuilder builder;
+    const int wall = builder.addMaterial(
+        {.baseColor = Color(rho), .emissive = Color(1.0f), .emissiveStrength = 1.0f});
+    addClosedBox(builder, wall, wall);
+    return loadBuiltScene(builder, name);
+}
+
 std::unique_ptr<Scene> doubledFurnaceBox(float rho, bool flipped, const std::string& name) {
     GltfBuilder builder;
     const int wall = builder.addMaterial(

@@ -23,6 +23,10 @@ std::unique_ptr<Scene> loadBuiltScene(const GltfBuilder& builder, const std::str
 // material of the face y = -h, the others `walls`.
 void addClosedBox(GltfBuilder& scene, int walls, int floor, float h = 1.0f);
 
+// The closed furnace box: addClosedBox's six quads (h = 1), one material emitting Le = 1 and
+// reflecting rho. Built and loaded as loadBuiltScene() does.
+std::unique_ptr<Scene> furnaceBox(float rho, const std::string& name);
+
 // The closed furnace box with every wall twice, in the same place (radiosity/coincident_faces.h):
 // addClosedBox's six quads (h = 1), one material emitting Le = 1 and reflecting rho, then the same
 // quads again, split along the other diagonal (each of the second box's triangles lies over parts
