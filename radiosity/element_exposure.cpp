@@ -26,10 +26,10 @@ constexpr int kMaxExposureSamples = 4096;
 // their shadow rays' ends (visibility), 16 per link by default. Every link of a receiver draws
 // from the same points, so their quadrature error does not average out over its links as fresh
 // points' did: against the dense solve of HierarchicalRadiosity.AgreesWithFullMatrixSolve
-// (tests/radiosity/radiosity_test.cpp), whose ceiling leaves beside its lamp are a strip's worth
-// exposed, the worst lit patch side differed by 1.00 % with 64, 1.02 % with 128 and 0.85 % with 256
-// (0.73 % with fresh points), the worst leaf side by 0.12, 0.10 and 0.087 of the mean (0.074).
-// At most kMaxExposureSamples rounded up to a power of two.
+// (tests/radiosity/hierarchical_radiosity_test.cpp), whose ceiling leaves beside its lamp are a
+// strip's worth exposed, the worst lit patch side differed by 1.00 % with 64, 1.02 % with 128 and
+// 0.85 % with 256 (0.73 % with fresh points), the worst leaf side by 0.12, 0.10 and 0.087 of the
+// mean (0.074). At most kMaxExposureSamples rounded up to a power of two.
 constexpr int kCoverSamples = 256;
 static_assert(std::bit_ceil(static_cast<uint32_t>(kMaxExposureSamples)) <=
               CoverSamples::kMaxPoints);

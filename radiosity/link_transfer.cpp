@@ -133,7 +133,7 @@ bool LinkTransfer::mayInteract(int receiver, int source) const {
 // of triangles sharing an edge, at angles from 11 to 166 degrees and against order 40, order 8 is
 // within 3.5e-4 on average (2.8e-2 at worst, for slivers) and order 10 within 1.5e-4 (1.2e-2);
 // order 8 costs 64 point evaluations instead of 100 and keeps the closed furnace box within its
-// 1 % (tests/radiosity/radiosity_test.cpp).
+// 1 % (tests/radiosity/radiosity_furnace_test.cpp).
 //
 // Far pairs wholly in front of each other (centroid distance at least kFarLink longest edges)
 // reuse the oracle's seven point values instead: the classical seven-point rule of degree 3 on the

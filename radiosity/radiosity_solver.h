@@ -53,8 +53,8 @@
 // others the area-weighted mean radiance of its sides, weighted to first order by how its sides
 // face the receiver (clusterRadianceToward). The model is approximate, and the oracle
 // weighs its error (flat clusters most): with clusters forced on, the closed furnace box still
-// gives Le / (1 - rho) within 1 % (tests/radiosity/radiosity_test.cpp), at more links than without;
-// smaller scenes are solved without clusters.
+// gives Le / (1 - rho) within 1 % (tests/radiosity/radiosity_furnace_test.cpp), at more links than
+// without; smaller scenes are solved without clusters.
 //
 // Final gather (RadiositySettings::finalGatherRays): after the solve, rays from every leaf side
 // gather the indirect light the solution sends it, and each patch side's mean difference from what
