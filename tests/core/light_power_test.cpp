@@ -14,6 +14,7 @@
 #include <cmath>
 #include <cstdio>
 #include <optional>
+#include <ostream>
 #include <random>
 #include <string>
 #include <vector>
@@ -34,6 +35,12 @@ struct SpotCone {
     const char* name;
     float inner, outer;  // radians
 };
+
+// How ctest names a case (`# GetParam() = ...`): by its cone, not by the bytes of the struct,
+// which hold a pointer and so change from build to build.
+void PrintTo(const SpotCone& cone, std::ostream* out) {
+    *out << cone.name << " (" << cone.inner << ", " << cone.outer << " rad)";
+}
 
 class SpotPower : public testing::TestWithParam<SpotCone> {};
 
