@@ -39,10 +39,11 @@ std::unique_ptr<Pass> CausticPass::fromScript(const ScriptTable& table,
     if (method == "progressive")
         return ProgressiveCausticPass::fromScript(table, overrides);
     CausticSettings settings;
-    int maxSpecularDepth = 16, viewSpp = 16;
+    int maxSpecularDepth = kDefaultMaxSpecularDepth, viewSpp = kDefaultViewSpp;
     photonMapKeys(settings, maxSpecularDepth, viewSpp, keys);
-    keys.check("caustics.", [&] { validateCausticSettings(settings); });
-    return std::make_unique<CausticPass>(settings, maxSpecularDepth, viewSpp);
+    return keys.construct("caustics.", [&] {
+        return std::make_unique<CausticPass>(settings, maxSpecularDepth, viewSpp);
+    });
 }
 
 CausticPass::CausticPass(CausticSettings settings, int maxSpecularDepth, int viewSpp)

@@ -26,8 +26,12 @@ inline std::string causticPassSkipReason(const SceneContents& contents) {
 
 class CausticPass : public SamplingPass {
   public:
+    // Specular vertices followed from the eye, and the view's samples per pixel.
+    static constexpr int kDefaultMaxSpecularDepth = 16, kDefaultViewSpp = 16;
+
     // Validates the settings (UsageError naming the key).
-    explicit CausticPass(CausticSettings settings, int maxSpecularDepth = 16, int viewSpp = 16);
+    explicit CausticPass(CausticSettings settings, int maxSpecularDepth = kDefaultMaxSpecularDepth,
+                         int viewSpp = kDefaultViewSpp);
     // The pass of a script's [[pass]] table of type "caustics": `method` picks the
     // reconstruction, a photon map (this pass) or stochastic progressive photon mapping
     // (ProgressiveCausticPass), and so the keys that are valid; each set is checked by its

@@ -108,12 +108,13 @@ class ParameterReader {
         value = wordValue;
     }
 
-    // Runs a settings check that throws UsageError "PREFIXkey: what" (the rules every caller
-    // of a solver or map obeys) and moves its message to the key's place in the script.
-    template <typename Check>
-    void check(const std::string& prefix, Check&& validate) const {
+    // Returns make(), which builds the pass from the values read: its constructor checks them by
+    // the rules every caller of the solver or map obeys and throws UsageError "PREFIXkey: what",
+    // whose message this moves to the key's place in the script.
+    template <typename Make>
+    auto construct(const std::string& prefix, Make&& make) const {
         try {
-            validate();
+            return make();
         } catch (const UsageError& e) {
             throw atKey(prefix, e);
         }

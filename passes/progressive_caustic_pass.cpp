@@ -53,10 +53,11 @@ std::unique_ptr<Pass> ProgressiveCausticPass::fromScript(const ScriptTable& tabl
                                                          const PassOverrides&) {
     ParameterReader keys(table);
     ProgressiveCausticSettings settings;
-    int iterations = 64, maxSpecularDepth = 16;
+    int iterations = 64, maxSpecularDepth = CausticPass::kDefaultMaxSpecularDepth;
     progressiveCausticKeys(settings, iterations, maxSpecularDepth, keys);
-    keys.check("caustics.", [&] { validateProgressiveCausticSettings(settings); });
-    return std::make_unique<ProgressiveCausticPass>(settings, iterations, maxSpecularDepth);
+    return keys.construct("caustics.", [&] {
+        return std::make_unique<ProgressiveCausticPass>(settings, iterations, maxSpecularDepth);
+    });
 }
 
 PassStats ProgressiveCausticPass::parameters() const {

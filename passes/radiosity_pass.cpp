@@ -82,15 +82,14 @@ std::unique_ptr<Pass> RadiosityPass::fromScript(const ScriptTable& table, const 
     if (solver == "progressive") {
         ProgressiveSettings s;
         progressiveKeys(s, keys);
-        keys.check("radiosity.", [&] { validateProgressiveSettings(s); });
-        return std::make_unique<RadiosityPass>(s);
+        return keys.construct("radiosity.", [&] { return std::make_unique<RadiosityPass>(s); });
     }
     RadiositySettings s;
     Caustics caustics = Caustics::Auto;
     keys.choice("caustics", caustics, kCausticsModes);
     hierarchicalKeys(s, keys);
-    keys.check("radiosity.", [&] { validateRadiositySettings(s); });
-    return std::make_unique<RadiosityPass>(s, caustics);
+    return keys.construct("radiosity.",
+                          [&] { return std::make_unique<RadiosityPass>(s, caustics); });
 }
 
 void RadiosityPass::adapt(const PipelineShape& shape) {
@@ -203,10 +202,11 @@ PassStats RadiosityPass::parameters() const {
         print.choice("caustics", caustics_, kCausticsModes);
         hierarchicalKeys(shown, print);
         PassStats stats = print.stats();
-        if (caustics_ == Caustics::Auto) {
-            stats[1].second += takesCaustics_
-                                   ? " (the photons of the caustic pass before, if it runs)"
-                                   : " (no caustic map before)";
+        // What "auto" means for this pipeline.
+        for (auto& [key, value] : stats) {
+            if (key == "caustics" && caustics_ == Caustics::Auto)
+                value += takesCaustics_ ? " (the photons of the caustic pass before, if it runs)"
+                                        : " (no caustic map before)";
         }
         return stats;
     }

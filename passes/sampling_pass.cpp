@@ -7,6 +7,10 @@
 
 namespace penumbra {
 
+namespace {
+
+// Publishes the renderer's image as the contribution `name` of a pass, and its AOV layers (adding
+// the light-path components to what earlier passes published: PassContext::addToLayer).
 void publishRenderedImage(PassContext& context, const ImageRenderer& renderer,
                           const std::string& name) {
     context.contribute(name, renderer.resolve());
@@ -18,6 +22,8 @@ void publishRenderedImage(PassContext& context, const ImageRenderer& renderer,
             context.layers[aovs[a]] = renderer.resolveAov(a);
     }
 }
+
+}  // namespace
 
 void SamplingPass::prepare(PassContext& context) {
     renderer_ =

@@ -15,11 +15,6 @@
 
 namespace penumbra {
 
-// Publishes the renderer's image as the contribution `name` of a pass, and its AOV layers (adding
-// the light-path components to what earlier passes published: PassContext::addToLayer).
-void publishRenderedImage(PassContext& context, const ImageRenderer& renderer,
-                          const std::string& name);
-
 class SamplingPass : public Pass {
   public:
     // Makes the estimator (makeEstimator()) and the renderer.
