@@ -49,14 +49,25 @@ inline PathComponent pathComponent(int vertices, bool firstVertexSpecular) {
 struct PathRadiance {
     std::array<Color, kPathComponentCount> components{Color(0.0f), Color(0.0f), Color(0.0f),
                                                       Color(0.0f)};
+    // The part of each component that corrects a reused radiosity solution's bias (the
+    // hybrid's correction, raytrace/path_tracer.h), counted in `components` as well: zero for
+    // every other estimator. The image renderer keeps its mean apart, to reconstruct it on its
+    // own (raytrace/correction_filter.h).
+    std::array<Color, kPathComponentCount> corrections{Color(0.0f), Color(0.0f), Color(0.0f),
+                                                       Color(0.0f)};
 
     Color& operator[](PathComponent c) { return components[static_cast<size_t>(c)]; }
     const Color& operator[](PathComponent c) const { return components[static_cast<size_t>(c)]; }
 
     Color total() const { return components[0] + components[1] + components[2] + components[3]; }
+    Color correction() const {
+        return corrections[0] + corrections[1] + corrections[2] + corrections[3];
+    }
 
     PathRadiance& operator*=(const Color& weight) {
         for (Color& c : components)
+            c *= weight;
+        for (Color& c : corrections)
             c *= weight;
         return *this;
     }

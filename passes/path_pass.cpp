@@ -12,10 +12,12 @@ const NamedValues<PathPass::Caustics> kCausticsModes = {{"auto", PathPass::Caust
                                                         {"exclude", PathPass::Caustics::Exclude}};
 
 // The script keys of the path pass, in the order the plan prints them.
-template <typename Settings, typename Mode, typename Keys>
-void pathKeys(Settings& s, Mode& caustics, Keys& keys) {
+template <typename Settings, typename Mode, typename Sigma, typename Keys>
+void pathKeys(Settings& s, Mode& caustics, Sigma& correctionSigma, Keys& keys) {
     keys("max_depth", s.maxDepth, -1, kMaxDepthLimit);
     keys("radiosity", s.reuseRadiosity);
+    keys("correction", s.correctionProbability, 0.0f, 1.0f);
+    keys("correction_sigma", correctionSigma, 0.0f, 64.0f);
     keys.choice("caustics", caustics, kCausticsModes);
 }
 
@@ -26,9 +28,10 @@ std::unique_ptr<Pass> PathPass::fromScript(const ScriptTable& table,
     ParameterReader keys(table);
     PathTracerSettings settings;
     Caustics caustics = Caustics::Auto;
-    pathKeys(settings, caustics, keys);
+    float correctionSigma = kDefaultCorrectionSigma;
+    pathKeys(settings, caustics, correctionSigma, keys);
     settings.maxDepth = overrides.maxDepth.value_or(settings.maxDepth);
-    return std::make_unique<PathPass>(settings, caustics);
+    return std::make_unique<PathPass>(settings, caustics, correctionSigma);
 }
 
 std::set<std::string> PathPass::needs() const {
@@ -52,8 +55,13 @@ void PathPass::adapt(const PipelineShape& shape) {
 
 PassStats PathPass::parameters() const {
     ParameterPrinter print;
-    pathKeys(settings_, caustics_, print);
+    pathKeys(settings_, caustics_, correctionSigma_, print);
     return print.stats();
+}
+
+float PathPass::correctionSigma() const {
+    const bool corrects = settings_.reuseRadiosity && settings_.correctionProbability > 0.0f;
+    return corrects ? correctionSigma_ : 0.0f;
 }
 
 RadianceEstimator PathPass::makeEstimator(PassContext& context) {

@@ -20,12 +20,18 @@ namespace penumbra {
 
 class PathPass : public SamplingPass {
   public:
+    // 8 pixels at one sample per pixel, 4 at 64 and 2 at 4096 (sigma_1 N^(-1/6)).
+    static constexpr float kDefaultCorrectionSigma = 8.0f;
+
     // Whether caustic paths (L S+ D S* E) are counted: Auto leaves them out exactly when the
     // pipeline has a caustic pass.
     enum class Caustics { Auto, Include, Exclude };
 
-    PathPass(PathTracerSettings settings, Caustics caustics = Caustics::Auto)
-        : settings_(settings), caustics_(caustics) {}
+    // correctionSigma: the width in pixels at one sample per pixel of the reconstruction filter
+    // of the solution's correction (raytrace/correction_filter.h); 0 leaves it unfiltered.
+    PathPass(PathTracerSettings settings, Caustics caustics = Caustics::Auto,
+             float correctionSigma = kDefaultCorrectionSigma)
+        : settings_(settings), caustics_(caustics), correctionSigma_(correctionSigma) {}
     // The pass of a script's [[pass]] table of type "path"; --max-depth replaces its max_depth.
     static std::unique_ptr<Pass> fromScript(const ScriptTable& table,
                                             const PassOverrides& overrides);
@@ -39,10 +45,12 @@ class PathPass : public SamplingPass {
   protected:
     RadianceEstimator makeEstimator(PassContext& context) override;
     std::string activity() const override { return "path tracing"; }
+    float correctionSigma() const override;
 
   private:
     PathTracerSettings settings_;
     Caustics caustics_;
+    float correctionSigma_;
     std::shared_ptr<const RadiositySolution> radiosity_;
     std::shared_ptr<const CausticMap> causticMap_;
     std::optional<SolutionForTracers> reusedSolution_;  // radiosity_ as the tracer reads it

@@ -26,8 +26,8 @@ void publishRenderedImage(PassContext& context, const ImageRenderer& renderer,
 }  // namespace
 
 void SamplingPass::prepare(PassContext& context) {
-    renderer_ =
-        std::make_unique<ImageRenderer>(context.camera, context.settings, makeEstimator(context));
+    renderer_ = std::make_unique<ImageRenderer>(context.camera, context.settings,
+                                                makeEstimator(context), correctionSigma());
     start_ = std::chrono::steady_clock::now();
     // With a time limit the bar measures the time left (in milliseconds), else samples.
     timed_ = context.deadline && usesTimeLimit();
@@ -77,13 +77,17 @@ PassStats SamplingPass::samplingFigures() const {
     const double seconds = seconds_ > 0.0 ? seconds_ : 1e-9;
     const double pixels = static_cast<double>(renderer_->film().width()) *
                           static_cast<double>(renderer_->film().height());
-    return {{"spp", std::to_string(renderer_->samplesDone())},
-            {"mean_spp",
-             formatStat(static_cast<double>(renderer_->samplesTaken()) / std::max(pixels, 1.0))},
-            {"seconds", std::to_string(seconds_)},
-            {"rays", std::to_string(renderer_->rays())},
-            {"rays_per_second", formatStat(static_cast<double>(renderer_->rays()) / seconds)},
-            {"dropped_samples", std::to_string(renderer_->droppedSamples())}};
+    PassStats figures = {
+        {"spp", std::to_string(renderer_->samplesDone())},
+        {"mean_spp",
+         formatStat(static_cast<double>(renderer_->samplesTaken()) / std::max(pixels, 1.0))},
+        {"seconds", std::to_string(seconds_)},
+        {"rays", std::to_string(renderer_->rays())},
+        {"rays_per_second", formatStat(static_cast<double>(renderer_->rays()) / seconds)},
+        {"dropped_samples", std::to_string(renderer_->droppedSamples())}};
+    if (renderer_->correctionSigma() > 0.0f)
+        figures.push_back({"correction_filter_sigma", formatStat(renderer_->correctionSigma())});
+    return figures;
 }
 
 }  // namespace penumbra

@@ -40,6 +40,9 @@ class SamplingPass : public Pass {
     // and leaves the time to the passes after it.
     virtual int sampleTarget(const RenderSettings& settings) const { return settings.spp; }
     virtual bool usesTimeLimit() const { return true; }
+    // The width in pixels, at one sample per pixel, of the reconstruction filter of the
+    // estimator's corrections (ImageRenderer); 0 for none.
+    virtual float correctionSigma() const { return 0.0f; }
 
   private:
     std::unique_ptr<ImageRenderer> renderer_;

@@ -7,31 +7,65 @@
 
 namespace penumbra {
 
-Color sampleDirectLight(const Scene& scene, const SurfaceHit& hit, const Bsdf& bsdf, const Vec3& wo,
-                        Sampler& sampler, PathCounters& counters, ReflectingLobes lobes) {
+namespace {
+
+// One light sample for next-event estimation at `hit`: a light chosen by power, a point on it and
+// a shadow ray. Returns the direction to the light and the arriving radiance over the sample's
+// density, weighted by the power heuristic against bsdf.pdf() (Veach 1997, Eq. 9.13; 1 for a
+// delta light); nothing when no light arrives or `reflects(wi)` says the caller's lobes send none
+// of it back, checked before the shadow ray is cast.
+template <typename Reflects>
+std::optional<std::pair<Vec3, Color>> sampleIncidentLight(const Scene& scene, const SurfaceHit& hit,
+                                                          const Bsdf& bsdf, const Vec3& wo,
+                                                          Sampler& sampler, PathCounters& counters,
+                                                          const Reflects& reflects) {
     const float uLight = sampler.get1D();
     const Vec2 uPoint = sampler.get2D();
     const auto choice = scene.lightSampler().sample(uLight);
     if (!choice)
-        return Color(0.0f);
+        return std::nullopt;
     const Light& light = *scene.lights()[choice->light];
     const LightSampleContext ctx{hit.p, hit.pError, hit.ng};
     const std::optional<LightLiSample> ls = light.sampleLi(ctx, uPoint);
-    if (!ls || !(ls->pdf > 0.0f))
-        return Color(0.0f);
-
-    const Color f = bsdf.f(wo, ls->wi, lobes) * std::abs(glm::dot(ls->wi, bsdf.shadingNormal()));
-    if (maxComponent(f) <= 0.0f)
-        return Color(0.0f);
+    if (!ls || !(ls->pdf > 0.0f) || !reflects(ls->wi))
+        return std::nullopt;
     ++counters.rays;
     const Color Tr =
         scene.transmittance(hit.p, hit.pError, hit.ng, ls->pLight, ls->pLightError, ls->nLight);
     if (maxComponent(Tr) <= 0.0f)
-        return Color(0.0f);
-
+        return std::nullopt;
     const float lightPdf = choice->pmf * ls->pdf;
     const float weight = light.isDelta() ? 1.0f : powerHeuristic(lightPdf, bsdf.pdf(wo, ls->wi));
-    return f * ls->L * Tr * (weight / lightPdf);
+    return std::make_pair(ls->wi, ls->L * Tr * (weight / lightPdf));
+}
+
+}  // namespace
+
+Color sampleDirectLight(const Scene& scene, const SurfaceHit& hit, const Bsdf& bsdf, const Vec3& wo,
+                        Sampler& sampler, PathCounters& counters, ReflectingLobes lobes) {
+    Color f(0.0f);
+    const auto reflects = [&](const Vec3& wi) {
+        f = bsdf.f(wo, wi, lobes) * std::abs(glm::dot(wi, bsdf.shadingNormal()));
+        return maxComponent(f) > 0.0f;
+    };
+    const auto incident = sampleIncidentLight(scene, hit, bsdf, wo, sampler, counters, reflects);
+    return incident ? f * incident->second : Color(0.0f);
+}
+
+DirectLightShares sampleDirectLightShares(const Scene& scene, const SurfaceHit& hit,
+                                          const Bsdf& bsdf, const Vec3& wo, Sampler& sampler,
+                                          PathCounters& counters) {
+    Color f(0.0f), fGlossy(0.0f);
+    const auto reflects = [&](const Vec3& wi) {
+        const float cosine = std::abs(glm::dot(wi, bsdf.shadingNormal()));
+        f = bsdf.f(wo, wi) * cosine;
+        fGlossy = bsdf.fGlossy(wo, wi) * cosine;
+        return maxComponent(f) > 0.0f;
+    };
+    const auto incident = sampleIncidentLight(scene, hit, bsdf, wo, sampler, counters, reflects);
+    if (!incident)
+        return {};
+    return {f * incident->second, fGlossy * incident->second};
 }
 
 float emissionMisWeight(const Scene& scene, const LightSampleContext& ctx, const Vec3& wi,

@@ -20,6 +20,17 @@ Color sampleDirectLight(const Scene& scene, const SurfaceHit& hit, const Bsdf& b
                         Sampler& sampler, PathCounters& counters,
                         ReflectingLobes lobes = ReflectingLobes::All);
 
+// The reflected radiance of sampleDirectLight by all the non-delta lobes and by the glossy ones
+// alone, from one light sample and one shadow ray: for a tracer that takes the Lambertian layer's
+// share (all - glossy) apart at a vertex.
+struct DirectLightShares {
+    Color all{0.0f};
+    Color glossy{0.0f};
+};
+DirectLightShares sampleDirectLightShares(const Scene& scene, const SurfaceHit& hit,
+                                          const Bsdf& bsdf, const Vec3& wo, Sampler& sampler,
+                                          PathCounters& counters);
+
 // The power heuristic weight (Veach 1997, Eq. 9.13) of emission that a BSDF sample of density
 // bsdfPdf, leaving the point of ctx in direction wi, reached on lightHit, against the light
 // sampling of sampleDirectLight from the same point; 1 where that is not a light of the scene.

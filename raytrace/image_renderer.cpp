@@ -2,6 +2,7 @@
 
 #include "core/errors.h"
 #include "core/sampler.h"
+#include "raytrace/correction_filter.h"
 
 #include <algorithm>
 
@@ -83,23 +84,89 @@ Vec3 aovValue(const std::string& name, const FirstHit& hit) {
 }  // namespace
 
 ImageRenderer::ImageRenderer(const Camera& camera, const RenderSettings& settings,
-                             RadianceEstimator estimator)
+                             RadianceEstimator estimator, float correctionSigma)
     : camera_(camera),
       settings_(settings),
       estimator_(std::move(estimator)),
       filter_(parseFilter(settings.filter)),
       aovNames_(settings.aovs),
-      film_(settings.width, settings.height, aovSpecs(aovNames_)),
+      correctionSigma_(correctionSigma),
+      film_(settings.width, settings.height, filmLayers()),
       converged_(static_cast<size_t>(settings.width) * settings.height, 0),
-      activePixels_(converged_.size()) {
+      activePixels_(converged_.size()) {}
+
+std::vector<AovSpec> ImageRenderer::filmLayers() {
+    std::vector<AovSpec> layers = aovSpecs(aovNames_);
     for (const std::string& aov : aovNames_)
         aovComponents_.push_back(componentIndex(aov));
+    if (correctionSigma_ <= 0.0f)
+        return layers;
+    const auto addLayer = [&layers](AovSpec spec) {
+        layers.push_back(std::move(spec));
+        return static_cast<int>(layers.size()) - 1;
+    };
+    // A guide the user asked for is the same layer; one not asked for is kept internally.
+    const auto guideLayer = [&](const std::string& name) {
+        const auto it = std::find(aovNames_.begin(), aovNames_.end(), name);
+        return it != aovNames_.end() ? static_cast<int>(it - aovNames_.begin())
+                                     : addLayer(aovSpecs({name}).front());
+    };
+    correctionLayer_ = addLayer({"correction"});
+    for (const int component : aovComponents_)
+        componentCorrectionLayers_.push_back(component >= 0 ? addLayer({"correction"}) : -1);
+    normalLayer_ = guideLayer("normal");
+    depthLayer_ = guideLayer("depth");
+    albedoLayer_ = guideLayer("albedo");
+    return layers;
+}
+
+float ImageRenderer::correctionSigma() const {
+    return correctionSigma_ > 0.0f ? correctionFilterSigma(correctionSigma_, samplesDone_) : 0.0f;
+}
+
+Image ImageRenderer::withReconstructedCorrection(Image image, int correctionLayer) const {
+    const Image correction = film_.resolveAov(correctionLayer);
+    const Image normal = film_.resolveAov(normalLayer_);
+    const Image depth = film_.resolveAov(depthLayer_);
+    const Image albedo = film_.resolveAov(albedoLayer_);
+    const Image reconstructed =
+        filterCorrection(correction, FilterGuide{normal, depth, albedo}, correctionSigma());
+    const std::span<float> out = image.pixels();
+    const std::span<const float> raw = correction.pixels(), smooth = reconstructed.pixels();
+    for (size_t i = 0; i < out.size(); ++i)
+        out[i] += smooth[i] - raw[i];
+    return image;
+}
+
+void ImageRenderer::addCorrection(IVec2 pixel, const PathRadiance& L, const FirstHit& firstHit) {
+    film_.addAov(pixel, correctionLayer_, L.correction());
+    for (size_t a = 0; a < aovNames_.size(); ++a) {
+        if (componentCorrectionLayers_[a] >= 0)
+            film_.addAov(pixel, componentCorrectionLayers_[a],
+                         L.corrections[static_cast<size_t>(aovComponents_[a])]);
+    }
+    const int userLayers = static_cast<int>(aovNames_.size());
+    if (normalLayer_ >= userLayers)
+        film_.addAov(pixel, normalLayer_, aovValue("normal", firstHit));
+    if (depthLayer_ >= userLayers)
+        film_.addAov(pixel, depthLayer_, aovValue("depth", firstHit));
+    if (albedoLayer_ >= userLayers)
+        film_.addAov(pixel, albedoLayer_, aovValue("albedo", firstHit));
+}
+
+Image ImageRenderer::resolve() const {
+    if (correctionLayer_ < 0)
+        return film_.resolve();
+    return withReconstructedCorrection(film_.resolve(), correctionLayer_);
 }
 
 Image ImageRenderer::resolveAov(size_t aov) const {
     if (aovNames_.at(aov) == "spp")
         return film_.resolveSampleCounts();
-    return film_.resolveAov(static_cast<int>(aov));
+    Image image = film_.resolveAov(static_cast<int>(aov));
+    if (correctionLayer_ >= 0 && componentCorrectionLayers_[aov] >= 0)
+        return withReconstructedCorrection(std::move(image), componentCorrectionLayers_[aov]);
+    return image;
 }
 
 void ImageRenderer::renderSamplePass() {
@@ -110,7 +177,7 @@ void ImageRenderer::renderSamplePass() {
     const bool adaptive = threshold > 0.0f && samplesDone_ + 1 >= RenderSettings::kAdaptiveMinSpp;
     tbb::combinable<Counts> counts;
     const uint32_t sampleIndex = static_cast<uint32_t>(samplesDone_);
-    const bool wantAovs = !aovNames_.empty();
+    const bool wantFirstHit = !aovNames_.empty() || correctionLayer_ >= 0;
     tbb::parallel_for(
         tbb::blocked_range2d<int>(0, settings_.height, kTileSize, 0, settings_.width, kTileSize),
         [&](const tbb::blocked_range2d<int>& tile) {
@@ -129,7 +196,7 @@ void ImageRenderer::renderSamplePass() {
                     const Ray ray = camera_.generateRay(Vec2(pixel) + Vec2(0.5f) + offset);
                     FirstHit firstHit;
                     const PathRadiance components =
-                        estimator_(ray, sampler, wantAovs ? &firstHit : nullptr, counters);
+                        estimator_(ray, sampler, wantFirstHit ? &firstHit : nullptr, counters);
                     const Color L = components.total();
                     // NaN and Inf never reach the film: dropped and counted (CONTRIBUTING.md).
                     if (!isFinite(L)) {
@@ -146,6 +213,8 @@ void ImageRenderer::renderSamplePass() {
                             film_.addAov(pixel, static_cast<int>(a),
                                          aovValue(aovNames_[a], firstHit));
                     }
+                    if (correctionLayer_ >= 0)
+                        addCorrection(pixel, components, firstHit);
                     // Each pixel decides from its own samples only: the image stays a function
                     // of the seed whatever the thread count.
                     if (adaptive && film_.relativeStandardError(pixel) < threshold) {

@@ -29,8 +29,11 @@ bool isComponentAov(const std::string& name);
 class ImageRenderer {
   public:
     // The camera and the settings are referred to, not copied: they must outlive the renderer.
-    ImageRenderer(const Camera& camera, const RenderSettings& settings,
-                  RadianceEstimator estimator);
+    // correctionSigma > 0: the estimator's corrections (PathRadiance::corrections) are kept
+    // apart and reconstructed with filterCorrection() (raytrace/correction_filter.h), of this
+    // width in pixels at one sample per pixel; 0: they stay in the image as they are.
+    ImageRenderer(const Camera& camera, const RenderSettings& settings, RadianceEstimator estimator,
+                  float correctionSigma = 0.0f);
 
     // Renders one more sample per pixel (sample index samplesDone()), for every pixel that has
     // not converged under adaptive sampling (RenderSettings::noiseThreshold).
@@ -46,19 +49,37 @@ class ImageRenderer {
 
     const Film& film() const { return film_; }
     // The radiance, and AOV layer `aov` (index into aovNames()); "spp" is the samples each pixel
-    // took.
-    Image resolve() const { return film_.resolve(); }
+    // took. With a correction kept apart, its reconstruction replaces its per-pixel mean in the
+    // radiance and in the light-path components.
+    Image resolve() const;
     Image resolveAov(size_t aov) const;
+    // The width (pixels) of the correction's reconstruction filter now; 0 without one.
+    float correctionSigma() const;
     // AOV names in film order.
     const std::vector<std::string>& aovNames() const { return aovNames_; }
 
   private:
+    // The per-pixel mean of film layer `layer`, minus its correction's mean plus the
+    // correction's reconstruction (correctionLayer: its film layer).
+    Image withReconstructedCorrection(Image image, int correctionLayer) const;
+    // The film's layers: the user's AOVs, then those of a correction kept apart (filling
+    // aovComponents_ and the layer indices below).
+    std::vector<AovSpec> filmLayers();
+    // Adds a sample's correction and the guide layers the user did not ask for.
+    void addCorrection(IVec2 pixel, const PathRadiance& L, const FirstHit& firstHit);
+
     const Camera& camera_;
     const RenderSettings& settings_;
     RadianceEstimator estimator_;
     PixelFilter filter_;
     std::vector<std::string> aovNames_;
     std::vector<int> aovComponents_;  // per AOV: its PathComponent, or -1 for a first-hit AOV
+    float correctionSigma_;
+    // Film layers past the user's AOVs, with a correction kept apart: the correction's sum over
+    // the components, its share of each component AOV (per AOV, or -1), and the filter's guide.
+    int correctionLayer_ = -1;
+    std::vector<int> componentCorrectionLayers_;
+    int normalLayer_ = -1, depthLayer_ = -1, albedoLayer_ = -1;
     Film film_;
     std::vector<uint8_t> converged_;  // per pixel: no more samples (adaptive sampling)
     size_t activePixels_;

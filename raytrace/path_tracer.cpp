@@ -36,7 +36,9 @@ std::string pathTracerLightPaths(const PathTracerSettings& settings) {
     // tracing), and the same again at the diffuse vertex behind each specular chain the reuse
     // vertex sees ((S+ D)*). With no specular surface in the scene the last two are empty. A
     // solution that took the caustic photons holds L S+ D+ as well: L S* D+ arrives.
-    if (!settings.reuseRadiosity)
+    // A correction (correctionProbability > 0) traces, in expectation, everything the solution
+    // held: the paths are the path tracer's again.
+    if (!settings.reuseRadiosity || settings.correctionProbability > 0.0f)
         return settings.excludeCaustics ? "L S* E | L D S* E | L (D|S)* D S* D S* E" : "L(D|S)*E";
     return std::string(settings.excludeCaustics ? "L S* E | L D S* E | "
                                                 : "L S* E | L S* D S* E | ") +
@@ -47,18 +49,71 @@ PathTracer::PathTracer(const Scene& scene, const PathTracerSettings& settings,
                        const ReusedSolution* radiosity, const ReusedCaustics* causticMap)
     : scene_(scene), settings_(settings), radiosity_(radiosity), causticMap_(causticMap) {}
 
+namespace {
+
+// The weights of one path, whose sum is the path tracer's throughput (see Li()).
+struct PathWeights {
+    // The part that takes the solution at each reuse vertex (the uncorrected reuse): over the
+    // lobes taken so far (`all`) and the part whose light no solution holds yet (`unheld`). They
+    // differ right after a reuse vertex left through a non-delta lobe, where the solution holds
+    // what its Lambertian layer gathers from non-specular surfaces: only the glossy lobes' share
+    // goes on unheld, and the whole comes back if the next vertex is left through a delta lobe
+    // (the solution holds no light that arrives through specular surfaces).
+    Color all{1.0f};
+    Color unheld{1.0f};
+    // The correction's parts. `fresh`: made at the last reuse vertex's Lambertian bounce, (1 / q)
+    // of the base there; it stands for what the solution held, light arriving from a
+    // non-specular surface, so it ends where the next vertex is left through a delta lobe (that
+    // light comes back to the base, as above). `traced`: the correction's parts from earlier
+    // vertices, traced as the path tracer does (no reuse vertex for them: their weight grows by
+    // 1 / q once, not at every reuse vertex, where (rho^2 / q)^k would make the variance diverge
+    // for rho^2 > q, the argument of kMinTerminationProbability). `chain`: fresh, followed
+    // through delta lobes to count the light found at a specular chain's end, when the solution
+    // holds those caustics (causticsInRadiosity) but the base leaves them to the map.
+    Color fresh{0.0f};
+    Color traced{0.0f};
+    Color chain{0.0f};
+
+    void operator*=(const Color& w) {
+        all *= w;
+        unheld *= w;
+        fresh *= w;
+        traced *= w;
+        chain *= w;
+    }
+    void operator/=(float d) {
+        all /= d;
+        unheld /= d;
+        fresh /= d;
+        traced /= d;
+        chain /= d;
+    }
+    // The correction's weight for light that every part counts here.
+    Color correction() const { return fresh + traced; }
+    bool live() const {
+        return maxComponent(all) > 0.0f || maxComponent(fresh + traced + chain) > 0.0f;
+    }
+};
+
+}  // namespace
+
 PathRadiance PathTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHit,
                             PathCounters& counters) const {
     PathRadiance L;
-    Color beta(1.0f);
-    // The part of beta whose light no radiosity solution holds yet: all of it, but right after a
-    // reuse vertex left through a non-delta lobe, where the solution holds what that vertex's
-    // Lambertian layer gathers and only its glossy lobes' share goes on (see below). Emission,
-    // next-event estimation, the reuse terms and non-delta bounces take this part; a delta bounce
-    // carries all of beta, as the solution holds no light that arrives through specular surfaces.
-    Color betaUnheld(1.0f);
-    // Product of eta^2 over refractions: beta carries the 1/eta^2 radiance scaling of each
-    // refraction, which this factor undoes for the roulette decision only (pbrt-v4, 14.1.3).
+    // The base part takes the solution S at each reuse vertex as its Lambertian layer's light
+    // (biased by the solution's error). With settings_.correctionProbability = q > 0 the path
+    // also goes on through that layer with probability q and adds (T - S) / q, T being what the
+    // path tracer traces for it (its next-event estimation and its bounce): as
+    // E[(T - S) / q | goes on] q = E[T] - S, the sum is unbiased whatever the solution (Russian
+    // roulette with the solution as the value of the paths it ends, Arvo and Kirk 1990; the
+    // control variate's known part, as in Halton's sequential Monte Carlo and Keller's
+    // hierarchical Monte Carlo image synthesis). What the correction adds is returned apart too
+    // (PathRadiance::corrections), so that the image can reconstruct it on its own.
+    PathWeights w;
+    const float q = settings_.reuseRadiosity ? settings_.correctionProbability : 0.0f;
+    // Product of eta^2 over refractions: the throughput carries the 1/eta^2 radiance scaling of
+    // each refraction, which this factor undoes for the roulette decision only (pbrt-v4,
+    // 14.1.3).
     float etaScale = 1.0f;
     int depth = 0;
     const Vec3 cameraOrigin = ray.o;
@@ -69,40 +124,51 @@ PathRadiance PathTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHit,
     // last of them: the path classes of the header's comment.
     int diffuseVertices = 0;
     bool specularAfterDiffuse = false;
+    // Whether the last vertex left through a non-delta lobe took the caustic map (a reuse vertex
+    // with causticsAtReuse): light found at the end of a specular chain after it is the map's.
+    bool lastDiffuseTookMap = false;
     bool firstVertexSpecular = false;  // the lobe the first vertex was left through was a delta
+
+    // Adds radiance `value` reaching the eye as `component`, weighted by the base and
+    // correction weights.
+    const auto add = [&](PathComponent component, const Color& baseWeight,
+                         const Color& correctionWeight, const Color& value) {
+        const Color fromCorrection = correctionWeight * value;
+        L[component] += baseWeight * value + fromCorrection;
+        L.corrections[static_cast<size_t>(component)] += fromCorrection;
+    };
 
     while (true) {
         ++counters.rays;
         const std::optional<SurfaceHit> hit = scene_.intersect(ray);
         if (!hit)
             break;  // no infinite lights yet: the world is black
-        const Color attenuation = volumeAttenuation(scene_, *hit, ray.d);
-        beta *= attenuation;
-        betaUnheld *= attenuation;
+        w *= volumeAttenuation(scene_, *hit, ray.d);
         const Vec3 wo = -ray.d;
-        const bool unheld = maxComponent(betaUnheld) > 0.0f;
+        const bool unheld = maxComponent(w.unheld) > 0.0f || maxComponent(w.correction()) > 0.0f;
 
         // Emission reached by the previous BSDF sample, MIS-weighted against next-event
         // estimation at the previous vertex (Veach 1997, Eq. 9.13).
         const Color Le = scene_.emitted(*hit, wo);
         const bool causticPath = diffuseVertices == 1 && specularAfterDiffuse;
-        // Light reaching a reuse vertex (every diffuse vertex after the first) through specular
-        // vertices is the caustic map's, when the reuse vertex took it.
-        const bool causticAtReuse = diffuseVertices >= 2 && specularAfterDiffuse &&
-                                    settings_.causticsAtReuse && causticMap_;
-        if (maxComponent(Le) > 0.0f && unheld && !(causticPath && settings_.excludeCaustics) &&
-            !causticAtReuse) {
+        // Light reaching a reuse vertex through specular vertices is the caustic map's, when the
+        // reuse vertex took it; the correction's traced part counts it all the same.
+        const bool causticAtReuse = specularAfterDiffuse && lastDiffuseTookMap;
+        if (maxComponent(Le) > 0.0f && !(causticPath && settings_.excludeCaustics)) {
             const float weight =
                 lastDelta ? 1.0f : emissionMisWeight(scene_, lastCtx, ray.d, *hit, lastBsdfPdf);
-            L[pathComponent(depth, firstVertexSpecular)] += betaUnheld * Le * weight;
+            const PathComponent component = pathComponent(depth, firstVertexSpecular);
+            if (causticAtReuse)
+                add(component, Color(0.0f), w.traced + w.chain, Le * weight);
+            else if (unheld)
+                add(component, w.unheld, w.correction(), Le * weight);
         }
 
         const Bsdf bsdf = scene_.bsdf(*hit);
 
         // Straight-through transparency: depth and the MIS state stay as they were.
         const StraightThrough straight = chooseStraightThrough(scene_, *hit, bsdf, wo, sampler);
-        beta *= straight.weight;
-        betaUnheld *= straight.weight;
+        w *= straight.weight;
         if (straight.passes) {
             ray = Scene::spawnRay(*hit, ray.d);
             continue;
@@ -119,27 +185,47 @@ PathRadiance PathTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHit,
         // vertex, with next-event estimation and a bounce weighed by fGlossy alone. Every
         // direction of a non-delta bounce here is drawn from the whole BSDF, so f / pdf splits
         // exactly into the Lambertian part, which only delta lobes carry on (light through
-        // specular surfaces), and the glossy part, which goes on in full (betaUnheld).
+        // specular surfaces), and the glossy part, which goes on in full (unheld). The
+        // correction's parts see no reuse vertex: they take every lobe.
         const bool reuseHere =
             settings_.reuseRadiosity && diffuseVertices >= 1 && bsdf.hasNonDeltaLobe();
+        // The correction's decision: trace the base's Lambertian layer here too, with weight
+        // 1 / q, in place of the solution.
+        const bool correctHere = reuseHere && maxComponent(w.unheld) > 0.0f && q > 0.0f &&
+                                 (q >= 1.0f || sampler.get1D() < q);
+        const Color corrected = correctHere ? w.unheld / q : Color(0.0f);
         // Light reflected here reaches the eye over this vertex and the ones before it.
         const PathComponent reflectedHere = pathComponent(depth + 1, firstVertexSpecular);
         if (unheld && reuseHere && radiosity_) {
-            L[reflectedHere] += betaUnheld * matteShare(bsdf) *
-                                radiosity_->reflected(*hit, glm::dot(wo, hit->ng) > 0.0f);
+            const Color S =
+                matteShare(bsdf) * radiosity_->reflected(*hit, glm::dot(wo, hit->ng) > 0.0f);
+            add(reflectedHere, w.unheld, -corrected, S);
         }
         if (unheld && reuseHere && settings_.causticsAtReuse && causticMap_) {
-            L[reflectedHere] += betaUnheld * causticMap_->radiance(*hit, bsdf, wo,
-                                                                   settings_.causticsInRadiosity
-                                                                       ? ReflectingLobes::Glossy
-                                                                       : ReflectingLobes::All);
+            add(reflectedHere, w.unheld, Color(0.0f),
+                causticMap_->radiance(*hit, bsdf, wo,
+                                      settings_.causticsInRadiosity ? ReflectingLobes::Glossy
+                                                                    : ReflectingLobes::All));
         }
-        const bool glossyAtReuse = reuseHere && (bsdf.lobes() & kLobeGlossy) != 0;
-        if (unheld && bsdf.hasNonDeltaLobe() && (!reuseHere || glossyAtReuse)) {
-            L[reflectedHere] +=
-                betaUnheld *
-                sampleDirectLight(scene_, *hit, bsdf, wo, sampler, counters,
-                                  reuseHere ? ReflectingLobes::Glossy : ReflectingLobes::All);
+        if (unheld && bsdf.hasNonDeltaLobe()) {
+            const bool glossy = (bsdf.lobes() & kLobeGlossy) != 0;
+            const bool correctionLive = maxComponent(w.correction() + corrected) > 0.0f;
+            if (!reuseHere) {
+                add(reflectedHere, w.unheld, w.correction(),
+                    sampleDirectLight(scene_, *hit, bsdf, wo, sampler, counters));
+            } else if (correctionLive) {
+                // One light sample for all parts: the base's glossy share, the traced
+                // correction's whole, the new correction's Lambertian share.
+                const DirectLightShares direct =
+                    sampleDirectLightShares(scene_, *hit, bsdf, wo, sampler, counters);
+                add(reflectedHere, w.unheld, w.correction(), direct.glossy);
+                add(reflectedHere, Color(0.0f), w.correction() + corrected,
+                    direct.all - direct.glossy);
+            } else if (glossy) {
+                add(reflectedHere, w.unheld, Color(0.0f),
+                    sampleDirectLight(scene_, *hit, bsdf, wo, sampler, counters,
+                                      ReflectingLobes::Glossy));
+            }
         }
 
         const float uLobe = sampler.get1D();
@@ -149,15 +235,29 @@ PathRadiance PathTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHit,
             break;
         const float cosOverPdf = std::abs(glm::dot(bs->wi, bsdf.shadingNormal())) / bs->pdf;
         if (bs->isDelta()) {
-            beta *= bs->f * cosOverPdf;
-            betaUnheld = beta;
+            // What the solution held at the reuse vertex before comes back: it holds no light
+            // through specular surfaces. The fresh correction ends (see PathWeights).
+            const Color weight = bs->f * cosOverPdf;
+            w.unheld = w.all *= weight;
+            w.traced *= weight;
+            w.chain *= weight;
+            w.fresh = Color(0.0f);
         } else {
-            // Only the unheld part goes on through a non-delta lobe: the solution at the reuse
-            // vertex before this one holds the rest.
-            const Color base = betaUnheld;
-            beta = base * bs->f * cosOverPdf;
-            betaUnheld = reuseHere ? base * bsdf.fGlossy(wo, bs->wi) * cosOverPdf : beta;
-            if (reuseHere && !settings_.specularAtReuse && !(maxComponent(betaUnheld) > 0.0f))
+            w.traced = (w.traced + w.fresh) * bs->f * cosOverPdf;
+            w.all = w.unheld * bs->f * cosOverPdf;
+            if (reuseHere) {
+                // Only the unheld part goes on through a non-delta lobe: the solution here holds
+                // the rest, but for the correction's traced Lambertian share.
+                const Color fGlossy = bsdf.fGlossy(wo, bs->wi);
+                w.unheld = w.unheld * fGlossy * cosOverPdf;
+                w.fresh = corrected * (bs->f - fGlossy) * cosOverPdf;
+            } else {
+                w.unheld = w.all;
+                w.fresh = Color(0.0f);
+            }
+            w.chain = settings_.causticsInRadiosity ? w.fresh : Color(0.0f);
+            if (reuseHere && !settings_.specularAtReuse && !(maxComponent(w.unheld) > 0.0f) &&
+                !(maxComponent(w.correction()) > 0.0f))
                 break;  // the radiosity term above holds this bounce, and no surface is specular
         }
         if (depth == 0)
@@ -167,8 +267,9 @@ PathRadiance PathTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHit,
         } else {
             ++diffuseVertices;
             specularAfterDiffuse = false;
+            lastDiffuseTookMap = reuseHere && settings_.causticsAtReuse && causticMap_;
         }
-        if (maxComponent(beta) <= 0.0f)
+        if (!w.live())
             break;
         if (bs->lobe & kLobeTransmission)
             etaScale *= sqr(bs->eta);
@@ -179,12 +280,12 @@ PathRadiance PathTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHit,
         ++depth;
 
         // Russian roulette, on the throughput without eta scaling.
-        const float q = rouletteTerminationProbability(depth, beta * etaScale);
-        if (q > 0.0f) {
-            if (sampler.get1D() < q)
+        const float rr = rouletteTerminationProbability(
+            depth, (w.all + w.fresh + w.traced + w.chain) * etaScale);
+        if (rr > 0.0f) {
+            if (sampler.get1D() < rr)
                 break;
-            beta /= 1.0f - q;
-            betaUnheld /= 1.0f - q;
+            w /= 1.0f - rr;
         }
     }
     return L;

@@ -59,6 +59,13 @@ struct PathTracerSettings {
     // With reuseRadiosity: trace on from a reuse vertex to the specular surfaces it sees. Off
     // only for a scene with no delta lobe, where that ray would find none.
     bool specularAtReuse = true;
+    // With reuseRadiosity: the probability q with which a path goes on past a reuse vertex
+    // through its Lambertian layer too, correcting the solution there by (T - S) / q (see Li()).
+    // 0 takes the solution as it is (biased by its error); any q in (0, 1] is unbiased, and
+    // q = 1 traces every path as the path tracer does.
+    float correctionProbability = kDefaultCorrectionProbability;
+
+    static constexpr float kDefaultCorrectionProbability = 0.5f;
 };
 
 // The light paths, in Heckbert's notation (core/light_paths.h), that a path tracer with these

@@ -26,10 +26,13 @@ bool sameSet(const PathSet& a, const PathSet& b) {
     return (a - b).empty() && (b - a).empty();
 }
 
-PathTracerSettings tracer(bool reuse, bool exclude) {
+// A path tracer's settings; with reuse, the solution is taken as it is (no correction) unless
+// `corrected`.
+PathTracerSettings tracer(bool reuse, bool exclude, bool corrected = false) {
     PathTracerSettings s;
     s.reuseRadiosity = reuse;
     s.excludeCaustics = exclude;
+    s.correctionProbability = corrected ? PathTracerSettings::kDefaultCorrectionProbability : 0.0f;
     return s;
 }
 
@@ -68,6 +71,14 @@ TEST(Planner, PathTracerDeclarationsAreTheSetsTheyStandFor) {
                         kAll - kCaustics - lostWithPhotons));
     EXPECT_TRUE((lostToRadiosity - lostWithPhotons).shortestPaths(1) ==
                 std::vector<std::string>{"L S D D D E"});
+    // The correction traces, in expectation, whatever the solution holds: nothing is lost, with a
+    // map at the reuse vertices or without, with photons in the solution or without.
+    EXPECT_TRUE(sameSet(PathSet::parse(pathTracerLightPaths(tracer(true, false, true))), kAll));
+    PathTracerSettings corrected = withPhotons;
+    corrected.correctionProbability = PathTracerSettings::kDefaultCorrectionProbability;
+    EXPECT_TRUE(sameSet(PathSet::parse(pathTracerLightPaths(corrected)), kAll - kCaustics));
+    corrected.causticsInRadiosity = false;
+    EXPECT_TRUE(sameSet(PathSet::parse(pathTracerLightPaths(corrected)), kAll - kCaustics));
 }
 
 // A stand-in for a pass the registry does not have, with a declared set of paths and nothing
@@ -113,8 +124,10 @@ TEST(Planner, HybridLeavesCausticsToTheCausticPassAndNamesIndirectCaustics) {
 // path pass counts indirect caustics through it; a radiosity view after a caustic pass would
 // count the caustics seen directly a second time, and the same with the photons left out is fine.
 TEST(Planner, HybridPresetFeedsTheCausticPhotonsToTheSolution) {
-    Pipeline hybrid = makePipelinePreset("hybrid", RenderSettings{});
-    const auto& passes = hybrid.passes();
+    // The preview takes the solution as it is: it misses the light that passed a specular
+    // surface between diffuse ones before reaching a reuse vertex, and says so.
+    Pipeline preview = makePipelinePreset("hybrid-preview", RenderSettings{});
+    const auto& passes = preview.passes();
     ASSERT_EQ(passes.size(), 3u);
     EXPECT_EQ(passes[0]->type(), "caustics");
     EXPECT_EQ(passes[1]->type(), "radiosity");
@@ -123,10 +136,16 @@ TEST(Planner, HybridPresetFeedsTheCausticPhotonsToTheSolution) {
     expected.causticsAtReuse = true;
     expected.causticsInRadiosity = true;
     EXPECT_EQ(passes[2]->lightPaths(), pathTracerLightPaths(expected));
-    const PipelinePlan plan = planForScene(hybrid, SceneContents{true, true, 1, 0});
+    const PipelinePlan plan = planForScene(preview, SceneContents{true, true, 1, 0});
     ASSERT_EQ(plan.warnings.size(), 1u);
     EXPECT_NE(plan.warnings[0].find("L D S D D D E, L D D S D D D E"), std::string::npos)
         << plan.warnings[0];
+    // The hybrid corrects the solution: every path is counted, once.
+    Pipeline hybrid = makePipelinePreset("hybrid", RenderSettings{});
+    ASSERT_EQ(hybrid.passes().size(), 3u);
+    expected.correctionProbability = PathTracerSettings::kDefaultCorrectionProbability;
+    EXPECT_EQ(hybrid.passes()[2]->lightPaths(), pathTracerLightPaths(expected));
+    EXPECT_TRUE(planForScene(hybrid, SceneContents{true, true, 1, 0}).warnings.empty());
 
     const auto causticsThenView = [](RadiosityPass::Caustics caustics) {
         std::vector<std::unique_ptr<Pass>> passes;

@@ -1,0 +1,195 @@
+// The hybrid's correction of a reused radiosity solution (raytrace/path_tracer.h,
+// PathTracerSettings::correctionProbability) in-process in the closed furnace box, against the
+// closed form L = Le / (1 - rho) (as tests/raytrace/path_tracer_furnace_test.cpp): with a
+// deliberately wrong solution (none at all, or three times too bright) the corrected estimator
+// still converges to L, at any continuation probability; the uncorrected one gives exactly what
+// the wrong solution implies, and the correction it reports apart is the difference.
+#include "core/path_components.h"
+#include "core/sampler.h"
+#include "core/scene.h"
+#include "raytrace/path_tracer.h"
+#include "tests/support/gltf_builder.h"
+#include "tests/support/radiosity_scenes.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <memory>
+
+namespace penumbra::test {
+namespace {
+
+constexpr float kLe = 2.0f;  // cd/m², emitted by every wall
+constexpr float kRho = 0.5f;
+// The furnace's radiance, and what every wall reflects of it (emission excluded): L - Le.
+constexpr double kRadiance = kLe / (1.0 - kRho);
+constexpr double kReflected = kRadiance - kLe;
+
+std::unique_ptr<Scene> furnaceBox() {
+    GltfBuilder builder;
+    const int wall = builder.addMaterial(
+        {.baseColor = Color(kRho), .emissive = Color(1.0f), .emissiveStrength = kLe});
+    addClosedBox(builder, wall, wall);
+    return loadBuiltScene(builder, "corrected-reuse-furnace");
+}
+
+// A radiosity solution that says every wall reflects `value`, whatever the truth.
+class ConstantSolution : public ReusedSolution {
+  public:
+    explicit ConstantSolution(float value) : value_(value) {}
+    Color reflected(const SurfaceHit&, bool) const override { return Color(value_); }
+    Color indirect(const SurfaceHit&, bool) const override { return Color(value_ * kRho); }
+
+  private:
+    float value_;
+};
+
+struct Estimate {
+    double sum = 0.0, sumSquares = 0.0;
+    int n = 0;
+    void add(double x) {
+        sum += x;
+        sumSquares += x * x;
+        ++n;
+    }
+    double mean() const { return sum / n; }
+    double standardError() const {
+        const double variance = (sumSquares - sum * sum / n) / (n - 1);
+        return std::sqrt(std::max(variance, 0.0) / n);
+    }
+};
+
+struct Estimates {
+    Estimate total, correction;
+};
+
+// n independent paths along `ray` (each sample 0 of its own pixel, as in the furnace test, so the
+// sample standard error is the estimator's).
+Estimates tracePaths(const Scene& scene, const PathTracerSettings& settings,
+                     const ReusedSolution* solution, const Ray& ray, int n) {
+    const PathTracer tracer(scene, settings, solution);
+    Sampler sampler(17);
+    PathCounters counters;
+    Estimates e;
+    for (int i = 0; i < n; ++i) {
+        sampler.startPixelSample(IVec2(i % 256, i / 256), 0);
+        const PathRadiance L = tracer.Li(ray, sampler, nullptr, counters);
+        e.total.add(L.total().g);
+        e.correction.add(L.correction().g);
+    }
+    return e;
+}
+
+PathTracerSettings reuse(float correctionProbability) {
+    PathTracerSettings settings;
+    settings.reuseRadiosity = true;
+    settings.correctionProbability = correctionProbability;
+    return settings;
+}
+
+const Ray kFurnaceRay{Vec3(0.0f), glm::normalize(Vec3(0.3f, -0.5f, 0.8f))};
+
+Estimates tracePaths(const Scene& scene, float solutionValue, float correctionProbability, int n) {
+    const ConstantSolution solution(solutionValue);
+    return tracePaths(scene, reuse(correctionProbability), &solution, kFurnaceRay, n);
+}
+
+// As in the furnace test: 4.5 standard errors (probability 7e-6 per check for a normal mean), and
+// a standard error below 0.5 % of L so that the check can see an error of 2.25 % of L.
+constexpr double kStandardErrors = 4.5;
+constexpr double kMaxRelativeStandardError = 0.005;
+
+void expectMean(const Estimate& e, double exact, const char* what) {
+    std::printf("%s: %.5f +- %.5f (exact %.5f)\n", what, e.mean(), e.standardError(), exact);
+    EXPECT_NEAR(e.mean(), exact, kStandardErrors * e.standardError()) << what;
+    EXPECT_LT(e.standardError(), kMaxRelativeStandardError * kRadiance) << what;
+}
+
+// Without a correction the path sees the wall's emission, the first vertex's direct light (one
+// reflection of Le, by next-event estimation and the emission its bounce finds) and, at the
+// second vertex, the solution reflected once more: Le + rho Le + rho S, exactly.
+TEST(CorrectedReuse, UncorrectedReuseGivesWhatTheSolutionImplies) {
+    const std::unique_ptr<Scene> scene = furnaceBox();
+    for (const float solution : {0.0f, float(kReflected), float(3.0 * kReflected)}) {
+        const Estimates e = tracePaths(*scene, solution, 0.0f, 16384);
+        expectMean(e.total, kLe + kRho * kLe + kRho * solution, "uncorrected");
+        EXPECT_EQ(e.correction.sum, 0.0);
+    }
+}
+
+struct Case {
+    const char* name;
+    float solution;     // in units of the true reflected radiance
+    float probability;  // the correction's continuation probability
+};
+
+class CorrectedReuse : public ::testing::TestWithParam<Case> {};
+
+TEST_P(CorrectedReuse, ConvergesToTheClosedFormWhateverTheSolution) {
+    const std::unique_ptr<Scene> scene = furnaceBox();
+    const Case c = GetParam();
+    const float solution = c.solution * float(kReflected);
+    const Estimates e = tracePaths(*scene, solution, c.probability, 65536);
+    expectMean(e.total, kRadiance, "corrected");
+    // The correction reported apart is what the solution missed at the second vertex: rho (the
+    // true reflected radiance - S).
+    expectMean(e.correction, kRho * (kReflected - solution), "correction");
+}
+
+INSTANTIATE_TEST_SUITE_P(Furnace, CorrectedReuse,
+                         ::testing::Values(Case{"NoSolution", 0.0f, 0.5f},
+                                           Case{"ThreeTimesTooBright", 3.0f, 0.5f},
+                                           Case{"RightSolution", 1.0f, 0.5f},
+                                           Case{"NoSolutionRarelyCorrected", 0.0f, 0.1f},
+                                           Case{"TooBrightAlwaysCorrected", 3.0f, 1.0f}),
+                         [](const ::testing::TestParamInfo<Case>& info) {
+                             return std::string(info.param.name);
+                         });
+
+// A closed room lit mostly through a mirror (as tests/passes/indirect_caustics_test.cpp): a
+// small light under the ceiling faces up at a mirror that sends its light down, so most of the
+// room's light has passed the mirror, which a solution treats as black. Against the path
+// tracer, whatever the solution says: the correction must bring back what it lacks, through the
+// mirror or not.
+TEST(CorrectedReuse, MatchesThePathTracerInAMirrorRoom) {
+    GltfBuilder builder;
+    const int walls = builder.addMaterial({.baseColor = Color(0.75f, 0.7f, 0.6f)});
+    addClosedBox(builder, walls, walls);
+    const int mirror = builder.addMaterial(
+        {.baseColor = Color(0.95f), .lambertian = false, .metallic = 1.0f, .roughness = 0.0f});
+    constexpr float m = 0.3f, y = 0.97f;
+    builder.addQuad({-m, y, -m}, {m, y, -m}, {m, y, m}, {-m, y, m}, mirror);  // faces down
+    const int lamp = builder.addMaterial(
+        {.baseColor = Color(0.0f), .emissive = Color(1.0f), .emissiveStrength = 20.0f});
+    constexpr float l = 0.15f, h = 0.85f;
+    builder.addQuad({-l, h, -l}, {-l, h, l}, {l, h, l}, {l, h, -l}, lamp);  // faces up
+    const std::unique_ptr<Scene> scene = loadBuiltScene(builder, "corrected-reuse-mirror-room");
+
+    // Towards the floor, which the mirror lights; caustics left out as in the hybrid (its
+    // caustic pass counts them).
+    constexpr int n = 1 << 20;
+    const Ray ray{Vec3(0.0f, -0.2f, 0.5f), glm::normalize(Vec3(0.0f, -1.0f, 0.2f))};
+    PathTracerSettings plain;
+    plain.excludeCaustics = true;
+    const Estimates pathTracer = tracePaths(*scene, plain, nullptr, ray, n);
+    // No solution at all: every reflection after the first diffuse vertex is the correction's.
+    const ConstantSolution none(0.0f);
+    PathTracerSettings settings = reuse(0.5f);
+    settings.excludeCaustics = true;
+    const Estimates corrected = tracePaths(*scene, settings, &none, ray, n);
+    const double difference = corrected.total.mean() - pathTracer.total.mean();
+    const double error =
+        std::hypot(corrected.total.standardError(), pathTracer.total.standardError());
+    std::printf("corrected %.5f +- %.5f, path tracer %.5f +- %.5f\n", corrected.total.mean(),
+                corrected.total.standardError(), pathTracer.total.mean(),
+                pathTracer.total.standardError());
+    EXPECT_NEAR(difference, 0.0, kStandardErrors * error);
+    // Most of this light takes rare paths (through the small mirror image of the lamp): the
+    // check sees a bias above 4.5 x 2 % of the radiance, e.g. the light of a mirror bounce (most
+    // of it) lost or counted twice. Measured: 1.6 % (seed 17).
+    EXPECT_LT(error, 0.02 * pathTracer.total.mean());
+}
+
+}  // namespace
+}  // namespace penumbra::test
