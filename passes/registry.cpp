@@ -56,13 +56,14 @@ const std::vector<std::pair<std::string, PresetFactory>>& presets() {
          }},
         // The seed's three-pass method: the caustic photon map, radiosity that takes the
         // photons' flux as well, then path tracing that takes the solution at the second
-        // diffuse vertex (docs/light-paths.md); the planner skips the caustic pass for a scene
-        // without specular surfaces.
+        // diffuse vertex and corrects it (docs/light-paths.md); the planner skips the caustic
+        // pass for a scene without specular surfaces. The correction makes a cheaper solve pay.
         {"hybrid",
          [](const RenderSettings& settings) {
              std::vector<std::unique_ptr<Pass>> passes;
              passes.push_back(std::make_unique<CausticPass>(CausticSettings{}));
-             passes.push_back(std::make_unique<RadiosityPass>(RadiositySettings{}));
+             passes.push_back(
+                 std::make_unique<RadiosityPass>(RadiositySettings::forCorrectedReuse()));
              PathTracerSettings path{settings.maxDepth};
              path.reuseRadiosity = true;
              passes.push_back(std::make_unique<PathPass>(path));

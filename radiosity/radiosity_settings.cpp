@@ -91,4 +91,13 @@ void validateRadiositySettings(const RadiositySettings& s) {
         fail("final_gather", "an integer in [0, 65536] or auto (-1)", s.finalGatherRays);
 }
 
+RadiositySettings RadiositySettings::forCorrectedReuse() {
+    RadiositySettings settings;
+    settings.epsilon = 0.04f;
+    settings.visibilitySamples = 4;
+    settings.maxRefinements = 1;
+    settings.finalGatherRays = 0;
+    return settings;
+}
+
 }  // namespace penumbra
