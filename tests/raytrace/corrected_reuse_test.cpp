@@ -191,5 +191,35 @@ TEST(CorrectedReuse, MatchesThePathTracerInAMirrorRoom) {
     EXPECT_LT(error, 0.02 * pathTracer.total.mean());
 }
 
+// The furnace box with plastic walls (a Lambertian base under a dielectric coat, smooth or
+// rough): the reuse vertex then splits into the Lambertian layer the solution stands for, and a
+// delta or rough glossy lobe the path follows. With no solution at all the corrected reuse must
+// still be the path tracer's estimate.
+class CorrectedReuseOnPlastic : public ::testing::TestWithParam<float> {};
+
+TEST_P(CorrectedReuseOnPlastic, MatchesThePathTracer) {
+    GltfBuilder builder;
+    const int wall = builder.addMaterial({.baseColor = Color(0.6f),
+                                          .emissive = Color(1.0f),
+                                          .emissiveStrength = kLe,
+                                          .lambertian = false,
+                                          .roughness = GetParam()});
+    addClosedBox(builder, wall, wall);
+    const std::unique_ptr<Scene> scene = loadBuiltScene(builder, "corrected-reuse-plastic");
+    constexpr int n = 65536;
+    const Estimates pathTracer = tracePaths(*scene, PathTracerSettings{}, nullptr, kFurnaceRay, n);
+    const ConstantSolution none(0.0f);
+    const Estimates corrected = tracePaths(*scene, reuse(0.5f), &none, kFurnaceRay, n);
+    std::printf("roughness %.1f: corrected %.5f +- %.5f, path tracer %.5f +- %.5f\n", GetParam(),
+                corrected.total.mean(), corrected.total.standardError(),
+                pathTracer.total.mean(), pathTracer.total.standardError());
+    const double error =
+        std::hypot(corrected.total.standardError(), pathTracer.total.standardError());
+    EXPECT_NEAR(corrected.total.mean(), pathTracer.total.mean(), kStandardErrors * error);
+    EXPECT_LT(error, kMaxRelativeStandardError * pathTracer.total.mean());
+}
+
+INSTANTIATE_TEST_SUITE_P(Coat, CorrectedReuseOnPlastic, ::testing::Values(0.0f, 0.3f));
+
 }  // namespace
 }  // namespace penumbra::test
