@@ -24,6 +24,13 @@
 //   deep. When the solution itself took the map's photons (causticsInRadiosity: it holds
 //   L S+ D+ too), its Lambertian share holds those caustics and their further bounces, and the
 //   map adds only what the reuse vertex's rough glossy lobes reflect of them.
+// - correction of the reused solution (correctionProbability q > 0, the `hybrid` pipeline's
+//   default): at each reuse vertex the path also goes on through the Lambertian layer with
+//   probability q, traced as by the path tracer from there on, and adds what it traces less the
+//   solution's value, divided by q. The solution's error then costs noise, not bias: the
+//   estimate is the path tracer's in expectation, and the light paths are the path tracer's
+//   (docs/light-paths.md, "The hybrid's correction"). The caustic map's estimates at the reuse
+//   vertex (its glossy share, or all of it when the solution took no photons) are not corrected.
 // - caustic exclusion: emission reached from the first diffuse vertex through one or more
 //   specular vertices (L S+ D S* E, the caustic pass's share) is dropped.
 // A vertex is diffuse or specular by the lobe it is left through (a plastic's diffuse base and
