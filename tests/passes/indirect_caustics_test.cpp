@@ -22,26 +22,11 @@
 namespace penumbra::test {
 namespace {
 
-// A perspective camera at the middle of the front wall, looking at the back wall (-Z).
-void buildMirrorRoom(GltfBuilder& scene) {
-    const int walls = scene.addMaterial({.baseColor = Color(0.75f, 0.7f, 0.6f)});
-    addClosedBox(scene, walls, walls);
-    const int mirror = scene.addMaterial(
-        {.baseColor = Color(0.95f), .lambertian = false, .metallic = 1.0f, .roughness = 0.0f});
-    constexpr float m = 0.3f, y = 0.97f;
-    scene.addQuad({-m, y, -m}, {m, y, -m}, {m, y, m}, {-m, y, m}, mirror);  // faces down
-    const int lamp = scene.addMaterial(
-        {.baseColor = Color(0.0f), .emissive = Color(1.0f), .emissiveStrength = 20.0f});
-    constexpr float s = 0.15f, h = 0.85f;
-    scene.addQuad({-s, h, -s}, {-s, h, s}, {s, h, s}, {s, h, -s}, lamp);  // faces up
-    scene.setPerspectiveCamera({0.0f, -0.2f, 0.99f}, {0.0f, 0.0f, 0.0f, 1.0f}, 1.4f);
-}
-
 class IndirectCaustics : public testing::Test {
   protected:
     void SetUp() override {
         GltfBuilder scene;
-        buildMirrorRoom(scene);
+        addMirrorRoom(scene);
         scene.write(dir_.file("room.gltf"));
     }
 

@@ -10,6 +10,7 @@
 #include "raytrace/path_tracer.h"
 #include "tests/support/gltf_builder.h"
 #include "tests/support/radiosity_scenes.h"
+#include "tests/support/sample_estimate.h"
 
 #include <gtest/gtest.h>
 
@@ -43,21 +44,6 @@ class ConstantSolution : public ReusedSolution {
 
   private:
     float value_;
-};
-
-struct Estimate {
-    double sum = 0.0, sumSquares = 0.0;
-    int n = 0;
-    void add(double x) {
-        sum += x;
-        sumSquares += x * x;
-        ++n;
-    }
-    double mean() const { return sum / n; }
-    double standardError() const {
-        const double variance = (sumSquares - sum * sum / n) / (n - 1);
-        return std::sqrt(std::max(variance, 0.0) / n);
-    }
 };
 
 struct Estimates {
@@ -147,23 +133,14 @@ INSTANTIATE_TEST_SUITE_P(Furnace, CorrectedReuse,
                              return std::string(info.param.name);
                          });
 
-// A closed room lit mostly through a mirror (as tests/passes/indirect_caustics_test.cpp): a
-// small light under the ceiling faces up at a mirror that sends its light down, so most of the
-// room's light has passed the mirror, which a solution treats as black. Against the path
+// A closed room lit mostly through a mirror (addMirrorRoom, as tests/passes/
+// indirect_caustics_test.cpp): most of the room's light has passed the mirror, which a solution
+// treats as black. Against the path
 // tracer, whatever the solution says: the correction must bring back what it lacks, through the
 // mirror or not.
 TEST(CorrectedReuse, MatchesThePathTracerInAMirrorRoom) {
     GltfBuilder builder;
-    const int walls = builder.addMaterial({.baseColor = Color(0.75f, 0.7f, 0.6f)});
-    addClosedBox(builder, walls, walls);
-    const int mirror = builder.addMaterial(
-        {.baseColor = Color(0.95f), .lambertian = false, .metallic = 1.0f, .roughness = 0.0f});
-    constexpr float m = 0.3f, y = 0.97f;
-    builder.addQuad({-m, y, -m}, {m, y, -m}, {m, y, m}, {-m, y, m}, mirror);  // faces down
-    const int lamp = builder.addMaterial(
-        {.baseColor = Color(0.0f), .emissive = Color(1.0f), .emissiveStrength = 20.0f});
-    constexpr float l = 0.15f, h = 0.85f;
-    builder.addQuad({-l, h, -l}, {-l, h, l}, {l, h, l}, {l, h, -l}, lamp);  // faces up
+    addMirrorRoom(builder);
     const std::unique_ptr<Scene> scene = loadBuiltScene(builder, "corrected-reuse-mirror-room");
 
     // Towards the floor, which the mirror lights; caustics left out as in the hybrid (its
@@ -211,8 +188,8 @@ TEST_P(CorrectedReuseOnPlastic, MatchesThePathTracer) {
     const ConstantSolution none(0.0f);
     const Estimates corrected = tracePaths(*scene, reuse(0.5f), &none, kFurnaceRay, n);
     std::printf("roughness %.1f: corrected %.5f +- %.5f, path tracer %.5f +- %.5f\n", GetParam(),
-                corrected.total.mean(), corrected.total.standardError(),
-                pathTracer.total.mean(), pathTracer.total.standardError());
+                corrected.total.mean(), corrected.total.standardError(), pathTracer.total.mean(),
+                pathTracer.total.standardError());
     const double error =
         std::hypot(corrected.total.standardError(), pathTracer.total.standardError());
     EXPECT_NEAR(corrected.total.mean(), pathTracer.total.mean(), kStandardErrors * error);

@@ -8,6 +8,7 @@
 #include "raytrace/path_tracer.h"
 #include "tests/support/gltf_builder.h"
 #include "tests/support/radiosity_scenes.h"
+#include "tests/support/sample_estimate.h"
 
 #include <gtest/gtest.h>
 
@@ -42,27 +43,6 @@ double truncatedSeries(double rho, int depth) {
         sum += term;
     return sum;
 }
-
-// Mean, standard error and range of one quantity over independent samples.
-struct Estimate {
-    double sum = 0.0, sumSquares = 0.0;
-    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
-    int n = 0;
-
-    void add(double x) {
-        sum += x;
-        sumSquares += x * x;
-        lo = std::min(lo, x);
-        hi = std::max(hi, x);
-        ++n;
-    }
-    double mean() const { return sum / n; }
-    // The sample standard deviation over sqrt(n).
-    double standardError() const {
-        const double variance = (sumSquares - sum * sum / n) / (n - 1);
-        return std::sqrt(std::max(variance, 0.0) / n);
-    }
-};
 
 struct FurnaceEstimates {
     Estimate total, emission, direct, indirect, specular;

@@ -14,6 +14,20 @@ std::unique_ptr<Scene> loadBuiltScene(const GltfBuilder& builder, const std::str
     return std::make_unique<Scene>(loadGltf(dir.file("scene.gltf")));
 }
 
+void addMirrorRoom(GltfBuilder& scene) {
+    const int walls = scene.addMaterial({.baseColor = Color(0.75f, 0.7f, 0.6f)});
+    addClosedBox(scene, walls, walls);
+    const int mirror = scene.addMaterial(
+        {.baseColor = Color(0.95f), .lambertian = false, .metallic = 1.0f, .roughness = 0.0f});
+    constexpr float m = 0.3f, y = 0.97f;
+    scene.addQuad({-m, y, -m}, {m, y, -m}, {m, y, m}, {-m, y, m}, mirror);  // faces down
+    const int lamp = scene.addMaterial(
+        {.baseColor = Color(0.0f), .emissive = Color(1.0f), .emissiveStrength = 20.0f});
+    constexpr float s = 0.15f, h = 0.85f;
+    scene.addQuad({-s, h, -s}, {-s, h, s}, {s, h, s}, {s, h, -s}, lamp);  // faces up
+    scene.setPerspectiveCamera({0.0f, -0.2f, 0.99f}, {0.0f, 0.0f, 0.0f, 1.0f}, 1.4f);
+}
+
 void addClosedBox(GltfBuilder& scene, int walls, int floor, float h) {
     const Vec3 c[8] = {{-h, -h, -h}, {h, -h, -h}, {h, h, -h}, {-h, h, -h},
                        {-h, -h, h},  {h, -h, h},  {h, h, h},  {-h, h, h}};

@@ -23,6 +23,12 @@ std::unique_ptr<Scene> loadBuiltScene(const GltfBuilder& builder, const std::str
 // material of the face y = -h, the others `walls`.
 void addClosedBox(GltfBuilder& scene, int walls, int floor, float h = 1.0f);
 
+// A closed room lit mostly through a mirror: addClosedBox's six quads (h = 1, albedo 0.75, 0.7,
+// 0.6), a mirror of 0.6 x 0.6 m just under the ceiling facing down, and a 0.3 x 0.3 m light of
+// 20 cd/m² below it facing up at the mirror, which catches most of its light and sends it down.
+// A perspective camera at the middle of the front wall looks at the back wall (-Z).
+void addMirrorRoom(GltfBuilder& scene);
+
 // The closed furnace box: addClosedBox's six quads (h = 1), one material emitting Le = 1 and
 // reflecting rho. Built and loaded as loadBuiltScene() does.
 std::unique_ptr<Scene> furnaceBox(float rho, const std::string& name);
