@@ -7,6 +7,9 @@
 #include "radiosity/solve_progress.h"
 #include "raytrace/tracing_steps.h"
 
+#include <chrono>
+#include <functional>
+
 namespace penumbra {
 
 namespace {
@@ -104,6 +107,22 @@ std::string RadiosityPass::skipReason(const SceneContents& contents) const {
     return "";
 }
 
+namespace {
+
+// With a time limit, the solve stops refining once it has used half of the time left when it
+// began, so that the image gets the other half: a coarser solution costs the hybrid's corrected
+// path tracer noise, not bias, and the radiosity view a coarser image, never one sample after the
+// whole budget.
+std::function<bool()> refinementDeadline(const PassContext& context) {
+    if (!context.deadline)
+        return nullptr;
+    const auto now = std::chrono::steady_clock::now();
+    const auto stopAt = now + (*context.deadline - now) / 2;
+    return [stopAt] { return std::chrono::steady_clock::now() >= stopAt; };
+}
+
+}  // namespace
+
 void RadiosityPass::prepare(PassContext& context) {
     scene_ = &context.scene;
     // The solve's stages (meshing, direct light, linking, rounds, sweeps) on standard error.
@@ -121,7 +140,7 @@ void RadiosityPass::prepare(PassContext& context) {
                 : std::vector<FluxDeposit>{};
         auto solver =
             std::make_unique<RadiositySolver>(context.scene, *mesh_, *hierarchical, deposits);
-        solver->solve(&progress);
+        solver->solve(&progress, refinementDeadline(context));
         solution_ = std::move(solver);
     } else {
         const auto& progressive = std::get<ProgressiveSettings>(settings_);

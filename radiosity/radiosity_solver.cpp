@@ -174,7 +174,7 @@ void RadiositySolver::endStage(const std::string& summary) {
 // HSA91's "HierarchicalRadiosity" with brightness-weighted refinement: link the patches with the
 // oracle on the initial radiance (emission and punctual direct light), then alternate solving and
 // refining the links with the current radiance until nothing is refined.
-void RadiositySolver::solve(SolveProgress* progress) {
+void RadiositySolver::solve(SolveProgress* progress, const std::function<bool()>& stopRefining) {
     progress_ = progress;
     refiner_->setProgress(progress);
     const auto start = std::chrono::steady_clock::now();
@@ -235,14 +235,19 @@ void RadiositySolver::solve(SolveProgress* progress) {
         const bool links = refiner_->refineLinks(stepName);
         return refiner_->refineDirect() || links;
     };
-    while (round < settings_.maxRefinements && step("refinement round", refineRound)) {
+    // Whether the caller's time is up: the solve then ends with what it has.
+    const auto stop = [&] {
+        stoppedRefining_ = stoppedRefining_ || (stopRefining && stopRefining());
+        return stoppedRefining_;
+    };
+    while (round < settings_.maxRefinements && !stop() && step("refinement round", refineRound)) {
     }
     // Adaptive subdivision by contrast with the neighbours (subdivision_threshold).
     const auto subdivide = [&](const std::string& stepName) {
         return refiner_->subdivideByContrast(stepName);
     };
     for (int pass = 0; pass < kSubdivisionPasses && settings_.subdivisionThreshold > 0.0f; ++pass) {
-        if (!step("subdivision round", subdivide))
+        if (stop() || !step("subdivision round", subdivide))
             break;
     }
     stageStart = std::chrono::steady_clock::now();
@@ -252,7 +257,7 @@ void RadiositySolver::solve(SolveProgress* progress) {
     computeVertexValues();
     endStage(std::to_string(mesh_.vertexCount()) + " vertices");
     secondsSolve_ += secondsSince(stageStart);
-    if (finalGatherRays() > 0) {
+    if (finalGatherRays() > 0 && !stop()) {
         stageStart = std::chrono::steady_clock::now();
         finalGather();
         secondsFinalGather_ = secondsSince(stageStart);
@@ -318,6 +323,7 @@ PassStats RadiositySolver::stats() const {
             {"coincident_area_m2", formatStat(exposure_->coincident().hiddenArea())},
             {"links", std::to_string(links)},
             {"refinement_rounds", std::to_string(rounds_)},
+            {"refinement_stopped_by_time_limit", stoppedRefining_ ? "yes" : "no"},
             {"refined_links", std::to_string(refiner_->refinedLinks())},
             {"iterations", std::to_string(iterations.size())},
             {"residual", formatStat(last.change)},

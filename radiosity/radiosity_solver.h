@@ -88,6 +88,7 @@
 #include "radiosity/vertex_values.h"
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -118,7 +119,11 @@ class RadiositySolver : public RadiositySolution {
     // is refined and the iteration has converged (or maxIterations); then the direct part
     // (indirectRadiance) and the vertex values. Leaves the mesh's setElementValues() at the front
     // side's reflected radiance. Reports its stages to `progress` if given (solve_progress.h).
-    void solve(SolveProgress* progress = nullptr);
+    // `stopRefining`, if given, is asked before each refinement round and the final gather: once
+    // it says yes, the solve ends with the links it has (its last gather and the vertex values
+    // are quick), for a caller with a time limit whose later passes correct the solution's error.
+    void solve(SolveProgress* progress = nullptr,
+               const std::function<bool()>& stopRefining = nullptr);
 
     // Radiance (cd/m²) leaving the surface at barycentric b of scene triangle (mesh, triangle)
     // on its front (or back) side: the Gouraud interpolation of the reflected part
@@ -183,6 +188,7 @@ class RadiositySolver : public RadiositySolution {
     std::unique_ptr<FinalGather> finalGather_;
 
     int rounds_ = 0;
+    bool stoppedRefining_ = false;       // stopRefining() ended the refinement
     SideVertexValues vertexReflected_;   // the reflected radiance, per mesh vertex and side
     SideVertexValues vertexIndirect_;    // its indirect part (elementIndirect)
     SolveProgress* progress_ = nullptr;  // during solve() only

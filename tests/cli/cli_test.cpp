@@ -449,6 +449,24 @@ TEST(Cli, TimeLimitStopsEarly) {
     EXPECT_LT(std::get<int>(*spp), kRequestedSpp);
 }
 
+// A time limit shorter than the radiosity solve: the solve stops refining after half of it (the
+// first linking cannot be cut), and the hybrid's corrected path tracer takes what is left.
+TEST(Cli, TimeLimitStopsTheSolveRefining) {
+    TempDir dir("cli-time-limit-solve");
+    ImageMetadata metadata;
+    renderCornellBox(dir, "limited.exr", "--pipeline hybrid --spp 1000000 --time-limit 0.02",
+                     &metadata);
+    const ImageMetadata::Value* stopped =
+        metadata.find("penumbra:radiosity.refinement_stopped_by_time_limit");
+    ASSERT_NE(stopped, nullptr);
+    ASSERT_TRUE(std::holds_alternative<std::string>(*stopped));
+    EXPECT_EQ(std::get<std::string>(*stopped), "yes");
+    const ImageMetadata::Value* spp = metadata.find("penumbra:spp");
+    ASSERT_NE(spp, nullptr);
+    ASSERT_TRUE(std::holds_alternative<int>(*spp));
+    EXPECT_GE(std::get<int>(*spp), 1);
+}
+
 TEST(Cli, AovLayersInTheExr) {
     TempDir dir("cli-aov");
     const Image image = renderCornellBox(dir, "aov.exr", "--spp 4 --aov albedo,normal,depth");
