@@ -5,8 +5,8 @@
 // field, except across the edges of objects). So it is averaged over neighbouring pixels of the
 // same surface, as Rousselle, Jarosz and Novák (2016, "Image-space Control Variates for
 // Rendering") reconstruct the difference between an image and its control variate, with a
-// cross-bilateral filter (Tomasi and Manduchi 1998; guided by the first hit's normal, depth and
-// albedo, as Schied et al. 2017 guide SVGF) whose width shrinks as samples accumulate:
+// cross-bilateral filter (Tomasi and Manduchi 1998; guided by the normal, depth and albedo of
+// the first diffuse vertex, as Schied et al. 2017 guide SVGF) whose width shrinks as samples accumulate:
 // sigma(N) = sigma_1 N^(-1/6). With the filter's bias growing as sigma² (the correction's
 // curvature) and its variance falling as 1 / (N sigma²), that rate balances the squared bias
 // against the variance (minimising sigma^4 + 1 / (N sigma²)), the argument that sets the radius

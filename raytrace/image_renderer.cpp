@@ -71,7 +71,7 @@ std::vector<AovSpec> aovSpecs(const std::vector<std::string>& names) {
 
 namespace {
 
-Vec3 aovValue(const std::string& name, const FirstHit& hit) {
+Vec3 aovValue(const std::string& name, const SurfaceGuide& hit) {
     if (!hit.valid)
         return Vec3(0.0f);
     if (name == "albedo")
@@ -105,18 +105,13 @@ std::vector<AovSpec> ImageRenderer::filmLayers() {
         layers.push_back(std::move(spec));
         return static_cast<int>(layers.size()) - 1;
     };
-    // A guide the user asked for is the same layer; one not asked for is kept internally.
-    const auto guideLayer = [&](const std::string& name) {
-        const auto it = std::find(aovNames_.begin(), aovNames_.end(), name);
-        return it != aovNames_.end() ? static_cast<int>(it - aovNames_.begin())
-                                     : addLayer(aovSpecs({name}).front());
-    };
     correctionLayer_ = addLayer({"correction"});
     for (const int component : aovComponents_)
         componentCorrectionLayers_.push_back(component >= 0 ? addLayer({"correction"}) : -1);
-    normalLayer_ = guideLayer("normal");
-    depthLayer_ = guideLayer("depth");
-    albedoLayer_ = guideLayer("albedo");
+    // The filter's guide: the first diffuse vertex's features (FirstHit::firstDiffuse).
+    normalLayer_ = addLayer(aovSpecs({"normal"}).front());
+    depthLayer_ = addLayer(aovSpecs({"depth"}).front());
+    albedoLayer_ = addLayer(aovSpecs({"albedo"}).front());
     return layers;
 }
 
@@ -145,13 +140,13 @@ void ImageRenderer::addCorrection(IVec2 pixel, const PathRadiance& L, const Firs
             film_.addAov(pixel, componentCorrectionLayers_[a],
                          L.corrections[static_cast<size_t>(aovComponents_[a])]);
     }
-    const int userLayers = static_cast<int>(aovNames_.size());
-    if (normalLayer_ >= userLayers)
-        film_.addAov(pixel, normalLayer_, aovValue("normal", firstHit));
-    if (depthLayer_ >= userLayers)
-        film_.addAov(pixel, depthLayer_, aovValue("depth", firstHit));
-    if (albedoLayer_ >= userLayers)
-        film_.addAov(pixel, albedoLayer_, aovValue("albedo", firstHit));
+    // Where the path met no diffuse vertex (a mirror reflecting the void), the first hit.
+    const SurfaceGuide& guide = firstHit.firstDiffuse.valid
+                                    ? firstHit.firstDiffuse
+                                    : static_cast<const SurfaceGuide&>(firstHit);
+    film_.addAov(pixel, normalLayer_, aovValue("normal", guide));
+    film_.addAov(pixel, depthLayer_, aovValue("depth", guide));
+    film_.addAov(pixel, albedoLayer_, aovValue("albedo", guide));
 }
 
 Image ImageRenderer::resolve() const {

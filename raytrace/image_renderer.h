@@ -76,7 +76,8 @@ class ImageRenderer {
     std::vector<int> aovComponents_;  // per AOV: its PathComponent, or -1 for a first-hit AOV
     float correctionSigma_;
     // Film layers past the user's AOVs, with a correction kept apart: the correction's sum over
-    // the components, its share of each component AOV (per AOV, or -1), and the filter's guide.
+    // the components, its share of each component AOV (per AOV, or -1), and the filter's guide
+    // (the first diffuse vertex's features: FirstHit::firstDiffuse).
     int correctionLayer_ = -1;
     std::vector<int> componentCorrectionLayers_;
     int normalLayer_ = -1, depthLayer_ = -1, albedoLayer_ = -1;

@@ -128,6 +128,7 @@ PathRadiance PathTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHit,
     // with causticsAtReuse): light found at the end of a specular chain after it is the map's.
     bool lastDiffuseTookMap = false;
     bool firstVertexSpecular = false;  // the lobe the first vertex was left through was a delta
+    float pathLength = 0.0f;           // from the camera to the current vertex, metres
 
     // Adds radiance `value` reaching the eye as `component`, weighted by the base and
     // correction weights.
@@ -144,6 +145,7 @@ PathRadiance PathTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHit,
         if (!hit)
             break;  // no infinite lights yet: the world is black
         w *= volumeAttenuation(scene_, *hit, ray.d);
+        pathLength += glm::distance(ray.o, hit->p);
         const Vec3 wo = -ray.d;
         const bool unheld = maxComponent(w.unheld) > 0.0f || maxComponent(w.correction()) > 0.0f;
 
@@ -265,6 +267,8 @@ PathRadiance PathTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHit,
         if (bs->isDelta()) {
             specularAfterDiffuse = diffuseVertices > 0;
         } else {
+            if (diffuseVertices == 0 && firstHit && q > 0.0f)
+                recordSurfaceGuide(scene_, *hit, bsdf, pathLength, firstHit->firstDiffuse);
             ++diffuseVertices;
             specularAfterDiffuse = false;
             lastDiffuseTookMap = reuseHere && settings_.causticsAtReuse && causticMap_;

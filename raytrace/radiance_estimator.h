@@ -14,12 +14,22 @@ namespace penumbra {
 
 class Sampler;
 
-// What the first visible surface looked like, for AOV layers.
-struct FirstHit {
+// What a surface looked like from the camera: its base colour, shading normal (world space) and
+// distance along the camera path (metres).
+struct SurfaceGuide {
     bool valid = false;
-    Color albedo{0.0f};  // base colour at the first non-transparent hit
-    Vec3 normal{0.0f};   // shading normal, world space
-    float depth = 0.0f;  // distance from the camera, metres
+    Color albedo{0.0f};
+    Vec3 normal{0.0f};
+    float depth = 0.0f;
+};
+
+// What the first visible surface looked like, for AOV layers.
+struct FirstHit : SurfaceGuide {
+    // The first vertex the path left through a non-delta lobe: the first hit, or the surface
+    // seen in a mirror or through glass (depth: the length of the path to it). Filled by the
+    // tracers that correct a solution, for the filter that reconstructs the correction
+    // (raytrace/correction_filter.h), which must compare what is reflected, not the mirror.
+    SurfaceGuide firstDiffuse;
 };
 
 struct PathCounters {

@@ -4,14 +4,19 @@
 
 namespace penumbra {
 
+void recordSurfaceGuide(const Scene& scene, const SurfaceHit& hit, const Bsdf& bsdf, float depth,
+                        SurfaceGuide& guide) {
+    guide.valid = true;
+    guide.albedo = evaluateMaterial(scene.material(hit), scene.textures(), hit.uv).baseColor;
+    guide.normal = bsdf.shadingNormal();
+    guide.depth = depth;
+}
+
 void recordFirstHit(const Scene& scene, const SurfaceHit& hit, const Bsdf& bsdf,
                     const Vec3& cameraOrigin, FirstHit* firstHit) {
     if (!firstHit || firstHit->valid)
         return;
-    firstHit->valid = true;
-    firstHit->albedo = evaluateMaterial(scene.material(hit), scene.textures(), hit.uv).baseColor;
-    firstHit->normal = bsdf.shadingNormal();
-    firstHit->depth = glm::distance(hit.p, cameraOrigin);
+    recordSurfaceGuide(scene, hit, bsdf, glm::distance(hit.p, cameraOrigin), *firstHit);
 }
 
 }  // namespace penumbra

@@ -9,6 +9,10 @@
 
 namespace penumbra {
 
+// Fills `guide` from the surface at `hit`, `depth` metres along the camera path.
+void recordSurfaceGuide(const Scene& scene, const SurfaceHit& hit, const Bsdf& bsdf, float depth,
+                        SurfaceGuide& guide);
+
 // Fills the AOV record from the first surface that is not passed straight through.
 void recordFirstHit(const Scene& scene, const SurfaceHit& hit, const Bsdf& bsdf,
                     const Vec3& cameraOrigin, FirstHit* firstHit);

@@ -104,7 +104,12 @@ TEST_F(ComponentLayers, SumToTheBeautyInEveryPipeline) {
                 }
             }
         }
-        EXPECT_LT(worst, 1e-6) << input << " " << options;
+        // The hybrid reconstructs its correction apart in every layer (raw - its mean + the
+        // filtered mean, ImageRenderer::resolve): two more float roundings per layer, of values
+        // that at 4 spp can be ten times the layer's own (a correction of weight 1 / q), so
+        // 5 x 10 x 2^-24 = 3e-6 of the magnitude; 1e-5 leaves room.
+        const bool reconstructed = options.find("hybrid") != std::string::npos;
+        EXPECT_LT(worst, reconstructed ? 1e-5 : 1e-6) << input << " " << options;
     }
 }
 

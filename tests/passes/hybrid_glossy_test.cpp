@@ -30,9 +30,13 @@ constexpr int kMinPixels = 100;
 // 0.3 % of the stored reference on them at 128 spp.
 constexpr double kBoxTolerance = 0.02;
 // The spheres show the light's highlights, the noisiest pixels: the reference pipeline is 2.1 %
-// off on them at 128 spp (seed 5), the hybrid up to 2.5 %; this bound only catches a gross error.
+// off on them at 128 spp (seed 5), the uncorrected hybrid was up to 2.5 %; this bound only
+// catches a gross error. The corrected hybrid is noisier per sample (its correction traces on
+// with weight 2): at 128 spp the smooth plastic's red (its dimmest channel) was +3.9 and +4.0 %
+// in two builds, at 256 spp +2.6 %, its other channels and every other sphere within 1.8 %; so
+// the test takes 256 spp.
 constexpr double kSphereTolerance = 0.04;
-constexpr int kSpp = 128;
+constexpr int kSpp = 256;
 
 // The spheres' nodes (scenes/glossy/README.md).
 bool isSphere(const std::string& mesh) {
