@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -55,12 +56,17 @@ Image filterCorrection(const Image& image, const FilterGuide& guide, float sigma
     const int width = image.width(), height = image.height(), channels = image.channels();
     const int reach = static_cast<int>(std::ceil(2.0f * sigma));
     const float spatial = -0.5f / (sigma * sigma);
+    // The guide's normals made unit once, not once per neighbour.
+    std::vector<Vec3> normals(static_cast<size_t>(width) * height);
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x)
+            normals[static_cast<size_t>(y) * width + x] = unitNormal(guide.normal, x, y);
     Image filtered(width, height, image.channelNames());
     tbb::parallel_for(tbb::blocked_range<int>(0, height), [&](const tbb::blocked_range<int>& rows) {
         std::vector<double> sum(static_cast<size_t>(channels));
         for (int y = rows.begin(); y < rows.end(); ++y) {
             for (int x = 0; x < width; ++x) {
-                const Vec3 n = unitNormal(guide.normal, x, y);
+                const Vec3& n = normals[static_cast<size_t>(y) * width + x];
                 const float z = guide.depth.at(x, y, 0);
                 const Vec3 a = pixel3(guide.albedo, x, y);
                 std::fill(sum.begin(), sum.end(), 0.0);
@@ -69,7 +75,8 @@ Image filterCorrection(const Image& image, const FilterGuide& guide, float sigma
                     for (int qx = std::max(x - reach, 0); qx <= std::min(x + reach, width - 1);
                          ++qx) {
                         const float d2 = float(sqr(qx - x) + sqr(qy - y));
-                        const float angleGap = normalGap(n, unitNormal(guide.normal, qx, qy));
+                        const float angleGap =
+                            normalGap(n, normals[static_cast<size_t>(qy) * width + qx]);
                         const float depthGap =
                             std::abs(guide.depth.at(qx, qy, 0) - z) /
                             (kDepthScale * std::max(z, 1e-6f) * std::max(std::sqrt(d2), 1.0f));

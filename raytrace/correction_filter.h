@@ -6,12 +6,12 @@
 // same surface, as Rousselle, Jarosz and Novák (2016, "Image-space Control Variates for
 // Rendering") reconstruct the difference between an image and its control variate, with a
 // cross-bilateral filter (Tomasi and Manduchi 1998; guided by the normal, depth and albedo of
-// the first diffuse vertex, as Schied et al. 2017 guide SVGF) whose width shrinks as samples accumulate:
-// sigma(N) = sigma_1 N^(-1/6). With the filter's bias growing as sigma² (the correction's
-// curvature) and its variance falling as 1 / (N sigma²), that rate balances the squared bias
-// against the variance (minimising sigma^4 + 1 / (N sigma²)), the argument that sets the radius
-// schedule of progressive photon mapping (Hachisuka, Ogaki and Jensen 2008): both vanish as N
-// grows, so the image converges to the unbiased one (consistency).
+// the first diffuse vertex, as Schied et al. 2017 guide SVGF) whose width shrinks as samples
+// accumulate: sigma(N) = sigma_1 N^(-1/6). With the filter's bias growing as sigma² (the
+// correction's curvature) and its variance falling as 1 / (N sigma²), that rate balances the
+// squared bias against the variance (minimising sigma^4 + 1 / (N sigma²)), the argument that sets
+// the radius schedule of progressive photon mapping (Hachisuka, Ogaki and Jensen 2008): both vanish
+// as N grows, so the image converges to the unbiased one (consistency).
 #pragma once
 
 #include "core/image.h"

@@ -156,14 +156,16 @@ PathRadiance PathTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHit,
         // Light reaching a reuse vertex through specular vertices is the caustic map's, when the
         // reuse vertex took it; the correction's traced part counts it all the same.
         const bool causticAtReuse = specularAfterDiffuse && lastDiffuseTookMap;
-        if (maxComponent(Le) > 0.0f && !(causticPath && settings_.excludeCaustics)) {
+        // The weights that count it: at a chain's end after a reuse vertex that took the map,
+        // only the correction's traced part and chain.
+        const Color baseWeight = causticAtReuse ? Color(0.0f) : w.unheld;
+        const Color correctionWeight = causticAtReuse ? w.traced + w.chain : w.correction();
+        if (maxComponent(Le) > 0.0f && !(causticPath && settings_.excludeCaustics) &&
+            maxComponent(baseWeight + correctionWeight) > 0.0f) {
             const float weight =
                 lastDelta ? 1.0f : emissionMisWeight(scene_, lastCtx, ray.d, *hit, lastBsdfPdf);
-            const PathComponent component = pathComponent(depth, firstVertexSpecular);
-            if (causticAtReuse)
-                add(component, Color(0.0f), w.traced + w.chain, Le * weight);
-            else if (unheld)
-                add(component, w.unheld, w.correction(), Le * weight);
+            add(pathComponent(depth, firstVertexSpecular), baseWeight, correctionWeight,
+                Le * weight);
         }
 
         const Bsdf bsdf = scene_.bsdf(*hit);
