@@ -38,7 +38,7 @@ std::set<std::string> PathPass::needs() const {
     std::set<std::string> needs;
     if (settings_.reuseRadiosity)
         needs.insert(products::kRadiositySolution);
-    if (settings_.causticsAtReuse)
+    if (settings_.causticsAtReuse && !settings_.causticsInRadiosity)
         needs.insert(products::kCausticMap);
     return needs;
 }

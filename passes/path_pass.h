@@ -3,7 +3,7 @@
 // it reuses the radiosity solution at the second diffuse vertex and leaves caustic paths to the
 // caustic pass; when that pass comes first, its map also lights the second diffuse vertex, through
 // the solution when the radiosity pass took the photons (PipelineShape::causticsInRadiosity;
-// then the map adds only the glossy lobes' share there).
+// then the map is not read there: the glossy lobes' share is traced).
 //
 // Contribution: image layer "path" (the light paths of pathTracerLightPaths()), and the
 // requested AOVs.

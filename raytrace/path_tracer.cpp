@@ -73,6 +73,11 @@ struct PathWeights {
     Color fresh{0.0f};
     Color traced{0.0f};
     Color chain{0.0f};
+    // The base's glossy share left at a reuse vertex whose solution holds the caustics
+    // (causticsInRadiosity), followed through delta lobes: light found at the chain's end is
+    // reflected by those glossy lobes, which no solution holds (the solution reflects it with its
+    // Lambertian layer), so the base counts it with this weight.
+    Color glossyChain{0.0f};
 
     void operator*=(const Color& w) {
         all *= w;
@@ -80,6 +85,7 @@ struct PathWeights {
         fresh *= w;
         traced *= w;
         chain *= w;
+        glossyChain *= w;
     }
     void operator/=(float d) {
         all /= d;
@@ -87,11 +93,13 @@ struct PathWeights {
         fresh /= d;
         traced /= d;
         chain /= d;
+        glossyChain /= d;
     }
     // The correction's weight for light that every part counts here.
     Color correction() const { return fresh + traced; }
     bool live() const {
-        return maxComponent(all) > 0.0f || maxComponent(fresh + traced + chain) > 0.0f;
+        return maxComponent(all) > 0.0f ||
+               maxComponent(fresh + traced + chain + glossyChain) > 0.0f;
     }
 };
 
@@ -124,11 +132,20 @@ PathRadiance PathTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHit,
     // last of them: the path classes of the header's comment.
     int diffuseVertices = 0;
     bool specularAfterDiffuse = false;
-    // Whether the last vertex left through a non-delta lobe took the caustic map (a reuse vertex
-    // with causticsAtReuse): light found at the end of a specular chain after it is the map's.
-    bool lastDiffuseTookMap = false;
+    // Whether the last vertex left through a non-delta lobe was a reuse vertex whose caustics
+    // (light through specular surfaces) the map or the solution holds (causticsAtReuse): light
+    // found at the end of a specular chain after it is theirs, but for the glossy chain's part.
+    bool lastDiffuseHeldCaustics = false;
     bool firstVertexSpecular = false;  // the lobe the first vertex was left through was a delta
     float pathLength = 0.0f;           // from the camera to the current vertex, metres
+    // Whether the correction is returned for the image's filter (PathRadiance::corrections): not
+    // when the first non-delta vertex was left through a glossy lobe. The filter averages the
+    // correction over pixels that see the same surface, right where the light that surface
+    // reflects varies slowly across it, as its Lambertian layer's does; a glossy lobe reflects
+    // what it sees sharply (the bright line a lamp's edge draws on a polished floor) and the
+    // filter would smear it. Which part is filtered changes no expectation: the choice is made
+    // per path, and the filter keeps each layer's mean but for its blur.
+    bool correctionFiltered = true;
 
     // Adds radiance `value` reaching the eye as `component`, weighted by the base and
     // correction weights.
@@ -136,7 +153,8 @@ PathRadiance PathTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHit,
                          const Color& correctionWeight, const Color& value) {
         const Color fromCorrection = correctionWeight * value;
         L[component] += baseWeight * value + fromCorrection;
-        L.corrections[static_cast<size_t>(component)] += fromCorrection;
+        if (correctionFiltered)
+            L.corrections[static_cast<size_t>(component)] += fromCorrection;
     };
 
     while (true) {
@@ -153,12 +171,12 @@ PathRadiance PathTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHit,
         // estimation at the previous vertex (Veach 1997, Eq. 9.13).
         const Color Le = scene_.emitted(*hit, wo);
         const bool causticPath = diffuseVertices == 1 && specularAfterDiffuse;
-        // Light reaching a reuse vertex through specular vertices is the caustic map's, when the
-        // reuse vertex took it; the correction's traced part counts it all the same.
-        const bool causticAtReuse = specularAfterDiffuse && lastDiffuseTookMap;
-        // The weights that count it: at a chain's end after a reuse vertex that took the map,
-        // only the correction's traced part and chain.
-        const Color baseWeight = causticAtReuse ? Color(0.0f) : w.unheld;
+        // Light reaching a reuse vertex through specular vertices is held by the caustic map or
+        // the solution there; the correction's traced part counts it all the same.
+        const bool causticAtReuse = specularAfterDiffuse && lastDiffuseHeldCaustics;
+        // The weights that count it: at a chain's end after such a reuse vertex, the base's
+        // glossy chain, the correction's traced part and chain.
+        const Color baseWeight = causticAtReuse ? w.glossyChain : w.unheld;
         const Color correctionWeight = causticAtReuse ? w.traced + w.chain : w.correction();
         if (maxComponent(Le) > 0.0f && !(causticPath && settings_.excludeCaustics) &&
             maxComponent(baseWeight + correctionWeight) > 0.0f) {
@@ -205,11 +223,14 @@ PathRadiance PathTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHit,
                 matteShare(bsdf) * radiosity_->reflected(*hit, glm::dot(wo, hit->ng) > 0.0f);
             add(reflectedHere, w.unheld, -corrected, S);
         }
-        if (unheld && reuseHere && settings_.causticsAtReuse && causticMap_) {
+        // The map's caustics when the solution took none. (When it took them, the glossy lobes'
+        // share is traced through the glossy chain instead: the map's estimate for a glossy
+        // lobe, a k-nearest-neighbour query at every reuse vertex, was a fifth of the hybrid's
+        // time on the modern hall and its sharpest fireflies, and it left the map's bias.)
+        if (unheld && reuseHere && settings_.causticsAtReuse && !settings_.causticsInRadiosity &&
+            causticMap_) {
             add(reflectedHere, w.unheld, Color(0.0f),
-                causticMap_->radiance(*hit, bsdf, wo,
-                                      settings_.causticsInRadiosity ? ReflectingLobes::Glossy
-                                                                    : ReflectingLobes::All));
+                causticMap_->radiance(*hit, bsdf, wo, ReflectingLobes::All));
         }
         if (unheld && bsdf.hasNonDeltaLobe()) {
             const bool glossy = (bsdf.lobes() & kLobeGlossy) != 0;
@@ -245,6 +266,7 @@ PathRadiance PathTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHit,
             w.unheld = w.all *= weight;
             w.traced *= weight;
             w.chain *= weight;
+            w.glossyChain *= weight;
             w.fresh = Color(0.0f);
         } else {
             w.traced = (w.traced + w.fresh) * bs->f * cosOverPdf;
@@ -260,6 +282,7 @@ PathRadiance PathTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHit,
                 w.fresh = Color(0.0f);
             }
             w.chain = settings_.causticsInRadiosity ? w.fresh : Color(0.0f);
+            w.glossyChain = reuseHere && settings_.causticsInRadiosity ? w.unheld : Color(0.0f);
             if (reuseHere && !settings_.specularAtReuse && !(maxComponent(w.unheld) > 0.0f) &&
                 !(maxComponent(w.correction()) > 0.0f))
                 break;  // the radiosity term above holds this bounce, and no surface is specular
@@ -269,11 +292,14 @@ PathRadiance PathTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHit,
         if (bs->isDelta()) {
             specularAfterDiffuse = diffuseVertices > 0;
         } else {
-            if (diffuseVertices == 0 && firstHit && q > 0.0f)
-                recordSurfaceGuide(scene_, *hit, bsdf, pathLength, firstHit->firstDiffuse);
+            if (diffuseVertices == 0) {
+                correctionFiltered = (bs->lobe & kLobeGlossy) == 0;
+                if (firstHit && q > 0.0f)
+                    recordSurfaceGuide(scene_, *hit, bsdf, pathLength, firstHit->firstDiffuse);
+            }
             ++diffuseVertices;
             specularAfterDiffuse = false;
-            lastDiffuseTookMap = reuseHere && settings_.causticsAtReuse && causticMap_;
+            lastDiffuseHeldCaustics = reuseHere && settings_.causticsAtReuse;
         }
         if (!w.live())
             break;

@@ -23,14 +23,14 @@
 //   the light found by chance: indirect caustics (L S+ D D+ ...) are then counted one bounce
 //   deep. When the solution itself took the map's photons (causticsInRadiosity: it holds
 //   L S+ D+ too), its Lambertian share holds those caustics and their further bounces, and the
-//   map adds only what the reuse vertex's rough glossy lobes reflect of them.
+//   reuse vertex's rough glossy lobes trace what they reflect of them (the map is not read).
 // - correction of the reused solution (correctionProbability q > 0, the `hybrid` pipeline's
 //   default): at each reuse vertex the path also goes on through the Lambertian layer with
 //   probability q, traced as by the path tracer from there on, and adds what it traces less the
 //   solution's value, divided by q. The solution's error then costs noise, not bias: the
 //   estimate is the path tracer's in expectation, and the light paths are the path tracer's
-//   (docs/light-paths.md, "The hybrid's correction"). The caustic map's estimates at the reuse
-//   vertex (its glossy share, or all of it when the solution took no photons) are not corrected.
+//   (docs/light-paths.md, "The hybrid's correction"). The caustic map's estimate at the reuse
+//   vertex, read only when the solution took no photons, is not corrected.
 // - caustic exclusion: emission reached from the first diffuse vertex through one or more
 //   specular vertices (L S+ D S* E, the caustic pass's share) is dropped.
 // A vertex is diffuse or specular by the lobe it is left through (a plastic's diffuse base and
@@ -60,8 +60,8 @@ struct PathTracerSettings {
     bool reuseRadiosity = false;   // take a radiosity solution at the second diffuse vertex
     bool excludeCaustics = false;  // drop L S+ D S* E
     bool causticsAtReuse = false;  // with reuseRadiosity: add a caustic map at the second vertex
-    // With causticsAtReuse: the solution holds the map's photons (L S+ D+), so the map adds only
-    // its glossy lobes' share at the second vertex.
+    // With causticsAtReuse: the solution holds the map's photons (L S+ D+), so the map is not
+    // read at the second vertex; its glossy lobes trace the caustics they reflect.
     bool causticsInRadiosity = false;
     // With reuseRadiosity: trace on from a reuse vertex to the specular surfaces it sees. Off
     // only for a scene with no delta lobe, where that ray would find none.

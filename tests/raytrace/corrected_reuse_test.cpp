@@ -3,7 +3,9 @@
 // closed form L = Le / (1 - rho) (as tests/raytrace/path_tracer_furnace_test.cpp): with a
 // deliberately wrong solution (none at all, or three times too bright) the corrected estimator
 // still converges to L, at any continuation probability; the uncorrected one gives exactly what
-// the wrong solution implies, and the correction it reports apart is the difference.
+// the wrong solution implies, and the correction it reports apart is the difference. Then the
+// same against the path tracer in a mirror room and with plastic walls, and which part of the
+// correction goes to the image's filter.
 #include "core/path_components.h"
 #include "core/sampler.h"
 #include "core/scene.h"
@@ -48,6 +50,7 @@ class ConstantSolution : public ReusedSolution {
 
 struct Estimates {
     Estimate total, correction;
+    int pathsWithFilteredCorrection = 0;  // paths that returned a non-zero correction
 };
 
 // n independent paths along `ray` (each sample 0 of its own pixel, as in the furnace test, so the
@@ -63,6 +66,7 @@ Estimates tracePaths(const Scene& scene, const PathTracerSettings& settings,
         const PathRadiance L = tracer.Li(ray, sampler, nullptr, counters);
         e.total.add(L.total().g);
         e.correction.add(L.correction().g);
+        e.pathsWithFilteredCorrection += L.correction() != Color(0.0f);
     }
     return e;
 }
@@ -197,6 +201,48 @@ TEST_P(CorrectedReuseOnPlastic, MatchesThePathTracer) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Coat, CorrectedReuseOnPlastic, ::testing::Values(0.0f, 0.3f));
+
+// The correction PathRadiance::corrections returns is what the image's filter averages over
+// neighbouring pixels: only where the eye's first non-delta vertex was left through the
+// Lambertian layer, whose reflected light varies slowly over the surface. Seen in a rough metal
+// floor (glossy lobes only) the correction stays in the path's own estimate, which is still the
+// path tracer's; seen on a Lambertian floor, it goes to the filter.
+TEST(CorrectedReuse, OnlyALambertianFirstVertexFiltersItsCorrection) {
+    const auto box = [](bool metalFloor) {
+        GltfBuilder builder;
+        const int wall = builder.addMaterial(
+            {.baseColor = Color(kRho), .emissive = Color(1.0f), .emissiveStrength = kLe});
+        const int floor = metalFloor ? builder.addMaterial({.baseColor = Color(0.8f),
+                                                            .lambertian = false,
+                                                            .metallic = 1.0f,
+                                                            .roughness = 0.3f})
+                                     : wall;
+        addClosedBox(builder, wall, floor);
+        return loadBuiltScene(
+            builder, metalFloor ? "corrected-reuse-metal-floor" : "corrected-reuse-matte-floor");
+    };
+    const Ray towardsTheFloor{Vec3(0.0f), glm::normalize(Vec3(0.2f, -1.0f, 0.1f))};
+    constexpr int n = 65536;
+    const ConstantSolution none(0.0f);
+
+    const std::unique_ptr<Scene> metal = box(true);
+    const Estimates pathTracer =
+        tracePaths(*metal, PathTracerSettings{}, nullptr, towardsTheFloor, n);
+    const Estimates corrected = tracePaths(*metal, reuse(0.5f), &none, towardsTheFloor, n);
+    std::printf("metal floor: corrected %.5f +- %.5f, path tracer %.5f +- %.5f\n",
+                corrected.total.mean(), corrected.total.standardError(), pathTracer.total.mean(),
+                pathTracer.total.standardError());
+    EXPECT_EQ(corrected.pathsWithFilteredCorrection, 0);
+    const double error =
+        std::hypot(corrected.total.standardError(), pathTracer.total.standardError());
+    EXPECT_NEAR(corrected.total.mean(), pathTracer.total.mean(), kStandardErrors * error);
+    EXPECT_LT(error, kMaxRelativeStandardError * pathTracer.total.mean());
+
+    // The control: on the Lambertian floor half the paths (q = 0.5) correct, all filtered.
+    const std::unique_ptr<Scene> matte = box(false);
+    const Estimates filtered = tracePaths(*matte, reuse(0.5f), &none, towardsTheFloor, n);
+    EXPECT_GT(filtered.pathsWithFilteredCorrection, n / 3);
+}
 
 }  // namespace
 }  // namespace penumbra::test
