@@ -175,6 +175,10 @@ float CausticMap::maxRadius() const {
     return data_->maxRadius;
 }
 
+double CausticMap::seconds() const {
+    return data_->seconds;
+}
+
 PassStats CausticMap::stats() const {
     const Data& d = *data_;
     const double shot = static_cast<double>(d.trace.shot);

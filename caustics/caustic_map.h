@@ -86,6 +86,7 @@ class CausticMap {
     const PhotonTraceResult& trace() const;
     const CausticSettings& settings() const;
     float maxRadius() const;
+    double seconds() const;  // to trace the photons and build the tree
 
     // Photons shot and stored, the fraction stored, the fraction whose first surface was
     // specular, stored power / emitted power, kernel, k, radius, time (s) and memory (MiB).

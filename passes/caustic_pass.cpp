@@ -5,6 +5,9 @@
 #include "passes/progressive_caustic_pass.h"
 #include "raytrace/specular_chain.h"
 
+#include <algorithm>
+#include <limits>
+
 namespace penumbra {
 
 namespace {
@@ -20,7 +23,8 @@ const NamedValues<CausticKernel> kKernels = {
 // caustics/caustic_map.cpp, and the view's), in the order the plan prints them.
 template <typename Settings, typename Count, typename Keys>
 void photonMapKeys(Settings& s, Count& maxSpecularDepth, Count& viewSpp, Keys& keys) {
-    keys("photons", s.photons);
+    keys.orAuto("photons", s.photons, CausticPass::kAutoPhotons, int64_t{1},
+                int64_t{std::numeric_limits<uint32_t>::max()});
     keys("k", s.k);
     keys.orAuto("max_radius", s.maxRadius, 0.0f);
     keys.choice("kernel", s.kernel, kKernels, "kernel");
@@ -38,7 +42,7 @@ std::unique_ptr<Pass> CausticPass::fromScript(const ScriptTable& table,
     keys.choice("method", method, kMethods, "method");
     if (method == "progressive")
         return ProgressiveCausticPass::fromScript(table, overrides);
-    CausticSettings settings;
+    CausticSettings settings = defaultSettings();
     int maxSpecularDepth = kDefaultMaxSpecularDepth, viewSpp = kDefaultViewSpp;
     photonMapKeys(settings, maxSpecularDepth, viewSpp, keys);
     return keys.construct("caustics.", [&] {
@@ -48,7 +52,47 @@ std::unique_ptr<Pass> CausticPass::fromScript(const ScriptTable& table,
 
 CausticPass::CausticPass(CausticSettings settings, int maxSpecularDepth, int viewSpp)
     : settings_(settings), maxSpecularDepth_(maxSpecularDepth), viewSpp_(viewSpp) {
-    validateCausticSettings(settings_);
+    CausticSettings resolved = settings_;
+    if (resolved.photons == kAutoPhotons)
+        resolved.photons = kBasePhotons;
+    validateCausticSettings(resolved);
+}
+
+std::shared_ptr<const CausticMap> CausticPass::buildMap(PassContext& context,
+                                                        const CausticSettings& seeded) const {
+    const RenderSettings& render = context.settings;
+    const auto build = [&](int64_t photons) {
+        CausticSettings settings = seeded;
+        settings.photons = photons;
+        Progress progress("caustic photons", static_cast<uint64_t>(photons), render.quiet);
+        auto map = std::make_shared<const CausticMap>(
+            CausticMap::build(context.scene, settings, &progress));
+        progress.finish();
+        return map;
+    };
+    if (seeded.photons != kAutoPhotons)
+        return build(seeded.photons);
+    // The k-nearest estimate's bias falls with the photons' density (its radius r_k² ~ k / N, k
+    // fixed) and its noise, averaged over a pixel's footprint, with their number: photons in
+    // proportion to the budget make the map consistent as the image's samples are.
+    const double maxPhotons = static_cast<double>(std::numeric_limits<uint32_t>::max());
+    const double bySamples =
+        static_cast<double>(kBasePhotons) * std::max(1.0, double(render.spp) / kBaseSpp);
+    std::shared_ptr<const CausticMap> first = build(kBasePhotons);
+    double photons = bySamples;
+    if (render.timeLimit > 0.0) {
+        // What the first photons' rate fits in the time share.
+        const double rate = static_cast<double>(kBasePhotons) / std::max(first->seconds(), 1e-3);
+        photons = std::min(photons, rate * render.timeLimit * kTimeShare);
+    }
+    const double storedFraction = static_cast<double>(first->photons().size()) / kBasePhotons;
+    if (storedFraction > 0.0)
+        photons = std::min(photons, kMaxStoredPhotons / storedFraction);
+    photons = std::min(photons, maxPhotons);
+    if (photons < 2.0 * kBasePhotons)
+        return first;  // more would not pay for shooting the first ones again
+    first.reset();
+    return build(static_cast<int64_t>(photons));
 }
 
 PassStats CausticPass::parameters() const {
@@ -59,15 +103,9 @@ PassStats CausticPass::parameters() const {
 }
 
 RadianceEstimator CausticPass::makeEstimator(PassContext& context) {
-    {
-        Progress progress("caustic photons", static_cast<uint64_t>(settings_.photons),
-                          context.settings.quiet);
-        CausticSettings seeded = settings_;
-        seeded.seed += context.settings.seed;  // a render's seed changes its photons too
-        map_ =
-            std::make_shared<const CausticMap>(CausticMap::build(context.scene, seeded, &progress));
-        progress.finish();
-    }
+    CausticSettings seeded = settings_;
+    seeded.seed += context.settings.seed;  // a render's seed changes its photons too
+    map_ = buildMap(context, seeded);
     context.publish<CausticMap>(products::kCausticMap, map_);
     const SpecularChainSettings chain{maxSpecularDepth_, false};
     return [map = map_.get(), &scene = context.scene, chain](

@@ -28,6 +28,22 @@ class CausticPass : public SamplingPass {
   public:
     // Specular vertices followed from the eye, and the view's samples per pixel.
     static constexpr int kDefaultMaxSpecularDepth = 16, kDefaultViewSpp = 16;
+    // CausticSettings::photons of the pass's default, `photons = "auto"`: a count that grows with
+    // the render's budget (photonsFor()), so that the map's bias vanishes as the budget grows.
+    static constexpr int64_t kAutoPhotons = 0;
+    // The automatic count: kBasePhotons for up to kBaseSpp samples per pixel, in proportion to
+    // the samples above; with a time limit, as many as the first kBasePhotons' rate fits in
+    // kTimeShare of it, if more. Never more than kMaxStoredPhotons are kept (their memory).
+    static constexpr int64_t kBasePhotons = 200000;
+    static constexpr int kBaseSpp = 64;
+    static constexpr double kTimeShare = 1.0 / 16.0;
+    static constexpr double kMaxStoredPhotons = 8.0e6;
+    // The pass's defaults: CausticSettings' with the automatic photon count.
+    static CausticSettings defaultSettings() {
+        CausticSettings settings;
+        settings.photons = kAutoPhotons;
+        return settings;
+    }
 
     // Validates the settings (UsageError naming the key).
     explicit CausticPass(CausticSettings settings, int maxSpecularDepth = kDefaultMaxSpecularDepth,
@@ -59,6 +75,10 @@ class CausticPass : public SamplingPass {
     bool usesTimeLimit() const override { return false; }
 
   private:
+    // Builds the map with the automatic photon count (kAutoPhotons) resolved for the render.
+    std::shared_ptr<const CausticMap> buildMap(PassContext& context,
+                                               const CausticSettings& seeded) const;
+
     CausticSettings settings_;
     int maxSpecularDepth_;
     int viewSpp_;

@@ -61,7 +61,7 @@ const std::vector<std::pair<std::string, PresetFactory>>& presets() {
         {"hybrid",
          [](const RenderSettings& settings) {
              std::vector<std::unique_ptr<Pass>> passes;
-             passes.push_back(std::make_unique<CausticPass>(CausticSettings{}));
+             passes.push_back(std::make_unique<CausticPass>(CausticPass::defaultSettings()));
              passes.push_back(
                  std::make_unique<RadiosityPass>(RadiositySettings::forCorrectedReuse()));
              PathTracerSettings path{settings.maxDepth};
@@ -75,7 +75,7 @@ const std::vector<std::pair<std::string, PresetFactory>>& presets() {
         {"hybrid-preview",
          [](const RenderSettings& settings) {
              std::vector<std::unique_ptr<Pass>> passes;
-             passes.push_back(std::make_unique<CausticPass>(CausticSettings{}));
+             passes.push_back(std::make_unique<CausticPass>(CausticPass::defaultSettings()));
              passes.push_back(std::make_unique<RadiosityPass>(RadiositySettings{}));
              PathTracerSettings path{settings.maxDepth};
              path.reuseRadiosity = true;

@@ -467,6 +467,35 @@ TEST(Cli, TimeLimitStopsTheSolveRefining) {
     EXPECT_GE(std::get<int>(*spp), 1);
 }
 
+// The caustic pass's automatic photon count (passes/caustic_pass.h) grows with the samples asked
+// for, so that the map's bias falls as the image's noise does: 200 000 photons up to 64 spp, in
+// proportion above; under a time limit, what fits in a sixteenth of it.
+TEST(Cli, CausticPhotonsGrowWithTheBudget) {
+    TempDir dir("cli-caustic-photons");
+    const std::string scene =
+        std::string(PENUMBRA_SOURCE_DIR) + "/scenes/caustic-spheres/caustic-spheres.gltf";
+    const auto photonsShot = [&](const std::string& options) {
+        const CliResult result =
+            runPenumbra("render " + scene + " -o " + dir.file("caustics.exr") +
+                        " --pipeline hybrid --width 8 --height 8 --quiet " + options);
+        EXPECT_EQ(result.status, 0) << result.output;
+        ImageMetadata metadata;
+        readImage(dir.file("caustics.exr"), &metadata);
+        const ImageMetadata::Value* shot = metadata.find("penumbra:caustics.map photons shot");
+        return shot && std::holds_alternative<std::string>(*shot)
+                   ? std::stod(std::get<std::string>(*shot))
+                   : -1.0;
+    };
+    EXPECT_EQ(photonsShot("--spp 16"), 200000.0);
+    EXPECT_EQ(photonsShot("--spp 64"), 200000.0);
+    EXPECT_EQ(photonsShot("--spp 256"), 800000.0);
+    // A time limit bounds them whatever the samples asked for (here at most 1/16 s of shooting,
+    // some hundred thousand photons, and never fewer than the first 200 000).
+    const double limited = photonsShot("--spp 1000000 --time-limit 1");
+    EXPECT_GE(limited, 200000.0);
+    EXPECT_LT(limited, 2.0e7);
+}
+
 TEST(Cli, AovLayersInTheExr) {
     TempDir dir("cli-aov");
     const Image image = renderCornellBox(dir, "aov.exr", "--spp 4 --aov albedo,normal,depth");
