@@ -125,10 +125,22 @@ bool ProgressiveCausticPass::run(PassContext& context) {
     caustics_->iterate(points, nullptr);
     progress_->advance(1);
     seconds_ += secondsSince(start);
-    // A fixed number of iterations, like the photon map's view: the time limit is left to the
-    // passes after it.
-    if (caustics_->iterations() < iterations_)
+    // A fixed number of iterations, like the photon map's view, leaving the time limit to the
+    // passes after it; but under a limit it stops once it has spent kTimeShare of it.
+    const bool outOfTime = context.deadline && seconds_ >= kTimeShare * context.settings.timeLimit;
+    if (caustics_->iterations() < iterations_ && !outOfTime)
         return false;
+    publish(context);
+    return true;
+}
+
+bool ProgressiveCausticPass::stopEarly(PassContext& context) {
+    publish(context);
+    return true;
+}
+
+void ProgressiveCausticPass::publish(PassContext& context) {
+    const RenderSettings& s = context.settings;
     progress_->finish();
     Image image(s.width, s.height, {"R", "G", "B"});
     Image seenDirectly = image;
@@ -152,7 +164,6 @@ bool ProgressiveCausticPass::run(PassContext& context) {
         if (aov == componentName(PathComponent::Specular))
             context.addToLayer(aov, seenThroughSpecular);
     }
-    return true;
 }
 
 PassStats ProgressiveCausticPass::stats() const {

@@ -36,11 +36,20 @@ class ProgressiveCausticPass : public Pass {
     }
     PassStats parameters() const override;
     void prepare(PassContext& context) override;
-    // One iteration; finished after `iterations` of them (whatever the time limit).
+    // One iteration; finished after `iterations` of them, or under a time limit once the
+    // iterations have taken kTimeShare of it (at least one iteration).
     bool run(PassContext& context) override;
+    // At the pipeline's deadline: the caustic of the iterations so far.
+    bool stopEarly(PassContext& context) override;
     PassStats stats() const override;
 
   private:
+    // The share of a time limit the iterations may take; the rest is the later passes'.
+    static constexpr double kTimeShare = 0.25;
+
+    // Contributes the image of the iterations so far.
+    void publish(PassContext& context);
+
     ProgressiveCausticSettings settings_;
     int iterations_;
     int maxSpecularDepth_;

@@ -496,6 +496,31 @@ TEST(Cli, CausticPhotonsGrowWithTheBudget) {
     EXPECT_LT(limited, 2.0e7);
 }
 
+// Progressive caustics run a fixed number of iterations, but under a time limit they stop at a
+// share of it (passes/progressive_caustic_pass.h) and leave the rest to the passes after them.
+TEST(Cli, ProgressiveCausticsStopAtTheirShareOfTheTimeLimit) {
+    TempDir dir("cli-progressive-caustics-time");
+    const std::string script = dir.file("sppm.toml");
+    std::ofstream(script) << "scene = \"" << PENUMBRA_SOURCE_DIR
+                          << "/scenes/caustic-spheres/caustic-spheres.gltf\"\n"
+                             "[[pass]]\ntype = \"caustics\"\nmethod = \"progressive\"\n"
+                             "iterations = 1000000\n[[pass]]\ntype = \"path\"\n";
+    const CliResult result = runPenumbra("render " + script + " -o " + dir.file("sppm.exr") +
+                                         " --width 16 --height 16 --spp 1000000"
+                                         " --time-limit 2 --quiet");
+    ASSERT_EQ(result.status, 0) << result.output;
+    ImageMetadata metadata;
+    readImage(dir.file("sppm.exr"), &metadata);
+    const ImageMetadata::Value* iterations = metadata.find("penumbra:caustics.sppm iterations");
+    ASSERT_NE(iterations, nullptr);
+    ASSERT_TRUE(std::holds_alternative<std::string>(*iterations));
+    const double done = std::stod(std::get<std::string>(*iterations));
+    EXPECT_GE(done, 1.0);
+    EXPECT_LT(done, 1000000.0);
+    const ImageMetadata::Value* spp = metadata.find("penumbra:path.spp");
+    ASSERT_NE(spp, nullptr);
+}
+
 TEST(Cli, AovLayersInTheExr) {
     TempDir dir("cli-aov");
     const Image image = renderCornellBox(dir, "aov.exr", "--spp 4 --aov albedo,normal,depth");
