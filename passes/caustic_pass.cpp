@@ -6,6 +6,7 @@
 #include "raytrace/specular_chain.h"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 namespace penumbra {
@@ -25,7 +26,7 @@ template <typename Settings, typename Count, typename Keys>
 void photonMapKeys(Settings& s, Count& maxSpecularDepth, Count& viewSpp, Keys& keys) {
     keys.orAuto("photons", s.photons, CausticPass::kAutoPhotons, int64_t{1},
                 int64_t{std::numeric_limits<uint32_t>::max()});
-    keys("k", s.k);
+    keys.orAuto("k", s.k, CausticPass::kAutoK, 2, 10000);
     keys.orAuto("max_radius", s.maxRadius, 0.0f);
     keys.choice("kernel", s.kernel, kKernels, "kernel");
     keys("seed", s.seed);
@@ -55,7 +56,17 @@ CausticPass::CausticPass(CausticSettings settings, int maxSpecularDepth, int vie
     CausticSettings resolved = settings_;
     if (resolved.photons == kAutoPhotons)
         resolved.photons = kBasePhotons;
+    if (resolved.k == kAutoK)
+        resolved.k = kBaseK;
     validateCausticSettings(resolved);
+}
+
+int CausticPass::automaticK(int64_t photons) {
+    // Consistent k-nearest density estimation wants k to grow and k / N to vanish (Loftsgaarden
+    // and Quesenberry 1965); k ~ sqrt(N) balances the estimate's variance (~1 / k) against its
+    // bias (~r_k² ~ k / N) as N grows.
+    const double k = kBaseK * std::sqrt(static_cast<double>(photons) / kBasePhotons);
+    return static_cast<int>(std::clamp(std::round(k), double(kBaseK), double(kMaxAutoK)));
 }
 
 std::shared_ptr<const CausticMap> CausticPass::buildMap(PassContext& context,
@@ -64,6 +75,8 @@ std::shared_ptr<const CausticMap> CausticPass::buildMap(PassContext& context,
     const auto build = [&](int64_t photons) {
         CausticSettings settings = seeded;
         settings.photons = photons;
+        if (settings.k == kAutoK)
+            settings.k = automaticK(photons);
         Progress progress("caustic photons", static_cast<uint64_t>(photons), render.quiet);
         auto map = std::make_shared<const CausticMap>(
             CausticMap::build(context.scene, settings, &progress));

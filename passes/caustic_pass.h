@@ -28,9 +28,12 @@ class CausticPass : public SamplingPass {
   public:
     // Specular vertices followed from the eye, and the view's samples per pixel.
     static constexpr int kDefaultMaxSpecularDepth = 16, kDefaultViewSpp = 16;
-    // CausticSettings::photons of the pass's default, `photons = "auto"`: a count that grows with
-    // the render's budget (photonsFor()), so that the map's bias vanishes as the budget grows.
+    // CausticSettings::photons and k of the pass's defaults, `photons = "auto"` and `k = "auto"`:
+    // a count that grows with the render's budget (buildMap()), so that the map's bias vanishes
+    // as the budget grows, and nearest photons that grow as its square root, so that its noise
+    // does too.
     static constexpr int64_t kAutoPhotons = 0;
+    static constexpr int kAutoK = 0;
     // The automatic count: kBasePhotons for up to kBaseSpp samples per pixel, in proportion to
     // the samples above; with a time limit, as many as the first kBasePhotons' rate fits in
     // kTimeShare of it, if more. Never more than kMaxStoredPhotons are kept (their memory).
@@ -38,10 +41,15 @@ class CausticPass : public SamplingPass {
     static constexpr int kBaseSpp = 64;
     static constexpr double kTimeShare = 1.0 / 16.0;
     static constexpr double kMaxStoredPhotons = 8.0e6;
-    // The pass's defaults: CausticSettings' with the automatic photon count.
+    // The automatic k: kBaseK with kBasePhotons, as the square root of the photons above, at
+    // most kMaxAutoK (each estimate's cost grows with it).
+    static constexpr int kBaseK = 50, kMaxAutoK = 500;
+    static int automaticK(int64_t photons);
+    // The pass's defaults: CausticSettings' with the automatic photon count and k.
     static CausticSettings defaultSettings() {
         CausticSettings settings;
         settings.photons = kAutoPhotons;
+        settings.k = kAutoK;
         return settings;
     }
 

@@ -469,11 +469,13 @@ TEST(Cli, TimeLimitStopsTheSolveRefining) {
 
 // The caustic pass's automatic photon count (passes/caustic_pass.h) grows with the samples asked
 // for, so that the map's bias falls as the image's noise does: 200 000 photons up to 64 spp, in
-// proportion above; under a time limit, what fits in a sixteenth of it.
+// proportion above; under a time limit, what fits in a sixteenth of it. Its nearest photons k
+// grow as the count's square root, from 50.
 TEST(Cli, CausticPhotonsGrowWithTheBudget) {
     TempDir dir("cli-caustic-photons");
     const std::string scene =
         std::string(PENUMBRA_SOURCE_DIR) + "/scenes/caustic-spheres/caustic-spheres.gltf";
+    std::string k;
     const auto photonsShot = [&](const std::string& options) {
         const CliResult result =
             runPenumbra("render " + scene + " -o " + dir.file("caustics.exr") +
@@ -482,13 +484,19 @@ TEST(Cli, CausticPhotonsGrowWithTheBudget) {
         ImageMetadata metadata;
         readImage(dir.file("caustics.exr"), &metadata);
         const ImageMetadata::Value* shot = metadata.find("penumbra:caustics.map photons shot");
+        const ImageMetadata::Value* nearest = metadata.find("penumbra:caustics.map k");
+        k = nearest && std::holds_alternative<std::string>(*nearest)
+                ? std::get<std::string>(*nearest)
+                : "";
         return shot && std::holds_alternative<std::string>(*shot)
                    ? std::stod(std::get<std::string>(*shot))
                    : -1.0;
     };
     EXPECT_EQ(photonsShot("--spp 16"), 200000.0);
     EXPECT_EQ(photonsShot("--spp 64"), 200000.0);
+    EXPECT_EQ(k, "50");
     EXPECT_EQ(photonsShot("--spp 256"), 800000.0);
+    EXPECT_EQ(k, "100");
     // A time limit bounds them whatever the samples asked for (here at most 1/16 s of shooting,
     // some hundred thousand photons, and never fewer than the first 200 000).
     const double limited = photonsShot("--spp 1000000 --time-limit 1");
