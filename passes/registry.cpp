@@ -46,10 +46,13 @@ const std::vector<std::pair<std::string, PresetFactory>>& presets() {
              return passes;
          }},
         // The seed's two-pass method: an indirect-only radiosity solution as the ambient term
-        // of distribution ray tracing.
+        // of distribution ray tracing; the caustic photon map before it (skipped without
+        // specular surfaces) for the light through glass and off mirrors, which the solution
+        // takes as well.
         {"distribution",
          [](const RenderSettings&) {
              std::vector<std::unique_ptr<Pass>> passes;
+             passes.push_back(std::make_unique<CausticPass>(CausticPass::defaultSettings()));
              passes.push_back(std::make_unique<RadiosityPass>(RadiositySettings{}));
              passes.push_back(std::make_unique<DistributionPass>(DistributionSettings{}));
              return passes;
