@@ -475,8 +475,11 @@ TEST(Cli, CausticPhotonsGrowWithTheBudget) {
     TempDir dir("cli-caustic-photons");
     const std::string scene =
         std::string(PENUMBRA_SOURCE_DIR) + "/scenes/caustic-spheres/caustic-spheres.gltf";
-    std::string k;
-    const auto photonsShot = [&](const std::string& options) {
+    struct Map {
+        double photonsShot = -1.0;
+        std::string k;
+    };
+    const auto mapOf = [&](const std::string& options) {
         const CliResult result =
             runPenumbra("render " + scene + " -o " + dir.file("caustics.exr") +
                         " --pipeline hybrid --width 8 --height 8 --quiet " + options);
@@ -485,21 +488,23 @@ TEST(Cli, CausticPhotonsGrowWithTheBudget) {
         readImage(dir.file("caustics.exr"), &metadata);
         const ImageMetadata::Value* shot = metadata.find("penumbra:caustics.map photons shot");
         const ImageMetadata::Value* nearest = metadata.find("penumbra:caustics.map k");
-        k = nearest && std::holds_alternative<std::string>(*nearest)
-                ? std::get<std::string>(*nearest)
-                : "";
-        return shot && std::holds_alternative<std::string>(*shot)
-                   ? std::stod(std::get<std::string>(*shot))
-                   : -1.0;
+        Map map;
+        if (shot && std::holds_alternative<std::string>(*shot))
+            map.photonsShot = std::stod(std::get<std::string>(*shot));
+        if (nearest && std::holds_alternative<std::string>(*nearest))
+            map.k = std::get<std::string>(*nearest);
+        return map;
     };
-    EXPECT_EQ(photonsShot("--spp 16"), 200000.0);
-    EXPECT_EQ(photonsShot("--spp 64"), 200000.0);
-    EXPECT_EQ(k, "50");
-    EXPECT_EQ(photonsShot("--spp 256"), 800000.0);
-    EXPECT_EQ(k, "100");
+    EXPECT_EQ(mapOf("--spp 16").photonsShot, 200000.0);
+    const Map base = mapOf("--spp 64");
+    EXPECT_EQ(base.photonsShot, 200000.0);
+    EXPECT_EQ(base.k, "50");
+    const Map more = mapOf("--spp 256");
+    EXPECT_EQ(more.photonsShot, 800000.0);
+    EXPECT_EQ(more.k, "100");
     // A time limit bounds them whatever the samples asked for (here at most 1/16 s of shooting,
     // some hundred thousand photons, and never fewer than the first 200 000).
-    const double limited = photonsShot("--spp 1000000 --time-limit 1");
+    const double limited = mapOf("--spp 1000000 --time-limit 1").photonsShot;
     EXPECT_GE(limited, 200000.0);
     EXPECT_LT(limited, 2.0e7);
 }
