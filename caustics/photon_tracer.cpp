@@ -177,56 +177,89 @@ struct ChunkResult {
     uint64_t aimedAtSpecular = 0;
 };
 
+// A photon's first ray and its flux (lm per channel), before the division by the photon count.
+struct Emitted {
+    Ray ray;
+    Color beta;
+};
+
 class Tracer {
   public:
-    Tracer(const Scene& scene, const PhotonTracerSettings& settings, std::vector<Sphere> targets)
-        : scene_(scene), settings_(settings), targets_(std::move(targets)) {}
+    // Photons from the scene's lights, or from `surfaces` when given (it must outlive this).
+    Tracer(const Scene& scene, const PhotonTracerSettings& settings, std::vector<Sphere> targets,
+           const SurfaceEmitter* surfaces = nullptr)
+        : scene_(scene), settings_(settings), targets_(std::move(targets)), surfaces_(surfaces) {}
 
     void trace(uint64_t index, ChunkResult& out) const {
         Sampler sampler(settings_.seed);
         sampler.startPixelSample(IVec2(0, 0), static_cast<uint32_t>(settings_.firstIndex + index));
+        const std::optional<Emitted> emitted =
+            surfaces_ ? emitFromSurface(sampler) : emitFromLight(sampler);
+        if (!emitted)
+            return;
+        // Each of the N photons carries 1/N of the estimate (Jensen 2001, chapter 5).
+        const Color beta = emitted->beta / static_cast<float>(settings_.photons);
+        if (!(maxComponent(beta) > 0.0f) || !isFinite(beta))
+            return;
+        followPath(emitted->ray, beta, sampler, out);
+    }
+
+  private:
+    // A direction from p aimed at the specular meshes' spheres.
+    std::optional<AimedDirection> aimFrom(const Vec3& p, float uTarget, Vec2 uDirection) const {
+        std::vector<Cone> cones;
+        cones.reserve(targets_.size());
+        for (const Sphere& s : targets_)
+            cones.push_back(coneTowards(p, s));
+        return sampleCones(cones, uTarget, uDirection);
+    }
+
+    // The aimed ray and its flux divided by the light's selection probability.
+    std::optional<Emitted> emitFromLight(Sampler& sampler) const {
         const auto choice = scene_.lightSampler().sample(sampler.get1D());
         if (!choice)
-            return;
+            return std::nullopt;
         const Light& light = *scene_.lights()[choice->light];
         const Vec2 uPosition = sampler.get2D();
         const Vec2 uDirection = sampler.get2D();
         const float uTarget = sampler.get1D();
         const std::optional<LightLeSample> origin = light.sampleLe(uPosition, uDirection);
         if (!origin)
-            return;
-
-        // The aimed ray and its flux divided by the light's selection probability.
-        Ray ray;
-        Color beta;
+            return std::nullopt;
         if (light.kind() == LightKind::Directional) {
             const AimedOrigin o = sampleDiscs(targets_, *origin, uTarget, uDirection);
-            ray = Ray{o.p, origin->w};
-            beta = origin->L / (o.pdf * choice->pmf);
-        } else {
-            std::vector<Cone> cones;
-            cones.reserve(targets_.size());
-            for (const Sphere& s : targets_)
-                cones.push_back(coneTowards(origin->p, s));
-            const std::optional<AimedDirection> d = sampleCones(cones, uTarget, uDirection);
-            if (!d)
-                return;
-            const Color L = light.emittedLe(*origin, d->w);
-            const bool area = glm::dot(origin->n, origin->n) > 0.0f;
-            const float cosTheta = area ? std::abs(glm::dot(origin->n, d->w)) : 1.0f;
-            beta = L * (cosTheta / (origin->pdfPos * d->pdf * choice->pmf));
-            ray =
-                Ray{area ? offsetRayOrigin(origin->p, origin->pError, origin->n, d->w) : origin->p,
-                    d->w};
+            return Emitted{Ray{o.p, origin->w}, origin->L / (o.pdf * choice->pmf)};
         }
-        // Each of the N photons carries 1/N of the estimate (Jensen 2001, chapter 5).
-        beta /= static_cast<float>(settings_.photons);
-        if (!(maxComponent(beta) > 0.0f) || !isFinite(beta))
-            return;
-        followPath(ray, beta, sampler, out);
+        const std::optional<AimedDirection> d = aimFrom(origin->p, uTarget, uDirection);
+        if (!d)
+            return std::nullopt;
+        const Color L = light.emittedLe(*origin, d->w);
+        const bool area = glm::dot(origin->n, origin->n) > 0.0f;
+        const float cosTheta = area ? std::abs(glm::dot(origin->n, d->w)) : 1.0f;
+        const Vec3 o =
+            area ? offsetRayOrigin(origin->p, origin->pError, origin->n, d->w) : origin->p;
+        return Emitted{Ray{o, d->w}, L * (cosTheta / (origin->pdfPos * d->pdf * choice->pmf))};
     }
 
-  private:
+    // The same for a Lambertian surface point: radiance L into its hemisphere.
+    std::optional<Emitted> emitFromSurface(Sampler& sampler) const {
+        const float uChoice = sampler.get1D();
+        const Vec2 uPosition = sampler.get2D();
+        const Vec2 uDirection = sampler.get2D();
+        const float uTarget = sampler.get1D();
+        const std::optional<SurfaceEmission> origin = (*surfaces_)(uChoice, uPosition);
+        if (!origin || !(origin->pdf > 0.0f))
+            return std::nullopt;
+        const std::optional<AimedDirection> d = aimFrom(origin->p, uTarget, uDirection);
+        if (!d)
+            return std::nullopt;
+        const float cosTheta = glm::dot(origin->n, d->w);
+        if (!(cosTheta > 0.0f))
+            return std::nullopt;
+        return Emitted{Ray{offsetRayOrigin(origin->p, origin->pError, origin->n, d->w), d->w},
+                       origin->L * (cosTheta / (origin->pdf * d->pdf))};
+    }
+
     void followPath(Ray ray, Color beta, Sampler& sampler, ChunkResult& out) const {
         int specularVertices = 0;
         int transparentLayers = 0;
@@ -301,20 +334,12 @@ class Tracer {
     const Scene& scene_;
     const PhotonTracerSettings& settings_;
     std::vector<Sphere> targets_;
+    const SurfaceEmitter* surfaces_;  // null: the lights
 };
 
-}  // namespace
-
-PhotonTraceResult tracePhotons(const Scene& scene, const PhotonTracerSettings& settings,
-                               Progress* progress) {
-    PhotonTraceResult result;
-    for (const auto& light : scene.lights())
-        result.emittedPower += light->power();
-    std::vector<Sphere> targets = aimTargets(scene, result.specularMeshes);
-    if (targets.empty() || scene.lights().empty() || settings.photons == 0)
-        return result;
-
-    const Tracer tracer(scene, settings, std::move(targets));
+// Shoots the photons of `tracer` in parallel and gathers the stored ones in photon order.
+void shoot(const Tracer& tracer, const PhotonTracerSettings& settings, Progress* progress,
+           PhotonTraceResult& result) {
     const uint64_t chunks = (settings.photons + kChunkSize - 1) / kChunkSize;
     std::vector<ChunkResult> results(chunks);
     tbb::parallel_for(tbb::blocked_range<uint64_t>(0, chunks), [&](const auto& range) {
@@ -340,6 +365,32 @@ PhotonTraceResult tracePhotons(const Scene& scene, const PhotonTracerSettings& s
         r.photons = {};
     }
     result.shot = settings.photons;
+}
+
+}  // namespace
+
+PhotonTraceResult tracePhotons(const Scene& scene, const PhotonTracerSettings& settings,
+                               Progress* progress) {
+    PhotonTraceResult result;
+    for (const auto& light : scene.lights())
+        result.emittedPower += light->power();
+    std::vector<Sphere> targets = aimTargets(scene, result.specularMeshes);
+    if (targets.empty() || scene.lights().empty() || settings.photons == 0)
+        return result;
+    shoot(Tracer(scene, settings, std::move(targets)), settings, progress, result);
+    return result;
+}
+
+PhotonTraceResult tracePhotonsFromSurfaces(const Scene& scene, const SurfaceEmitter& emitter,
+                                           const Color& emittedPower,
+                                           const PhotonTracerSettings& settings,
+                                           Progress* progress) {
+    PhotonTraceResult result;
+    result.emittedPower = emittedPower;
+    std::vector<Sphere> targets = aimTargets(scene, result.specularMeshes);
+    if (targets.empty() || !(maxComponent(emittedPower) > 0.0f) || settings.photons == 0)
+        return result;
+    shoot(Tracer(scene, settings, std::move(targets), &emitter), settings, progress, result);
     return result;
 }
 

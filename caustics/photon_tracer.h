@@ -32,11 +32,21 @@
 //
 // Determinism: photon i uses sample index firstIndex + i of one Sampler sequence (core/sampler.h)
 // and chunks are concatenated in order, so the photons are the same whatever the thread count.
+//
+// Other sources. tracePhotonsFromSurfaces() shoots the same photons from Lambertian surface points
+// that a caller samples instead of from the lights: the light a radiosity solution's diffuse
+// surfaces reflect, which the photons then carry through specular surfaces onto other diffuse
+// ones (paths D S+ D: the seed's extended form factors for mirror-like surfaces, estimated by
+// photons; Wallace, Cohen and Greenberg 1987 traced them with image form factors through planar
+// mirrors, Sillion and Puech 1989 with rays). The aiming, the storage rule and the power are as
+// above, the points' radiance in place of the lights'.
 #pragma once
 
 #include "core/math.h"
 
 #include <cstdint>
+#include <functional>
+#include <optional>
 #include <vector>
 
 namespace penumbra {
@@ -81,5 +91,25 @@ struct PhotonTraceResult {
 // shoots none.
 PhotonTraceResult tracePhotons(const Scene& scene, const PhotonTracerSettings& settings,
                                Progress* progress);
+
+// A point of a Lambertian emitter: it sends radiance L (cd/m² per channel) into every direction
+// of the hemisphere around n, none behind.
+struct SurfaceEmission {
+    Vec3 p, pError;  // position and its rounding error bound, to offset rays off the surface
+    Vec3 n;          // unit normal of the emitting side
+    Color L;
+    float pdf = 0.0f;  // of choosing the point, per m² of the emitters' area (choice included)
+};
+// Draws an emission point from three uniform numbers (a choice, then a position), or nothing.
+// Called concurrently: it must not change shared state.
+using SurfaceEmitter = std::function<std::optional<SurfaceEmission>(float uChoice, Vec2 u)>;
+
+// Shoots settings.photons photons from the points `emitter` draws (their total flux
+// `emittedPower`, lm per channel, reported as PhotonTraceResult::emittedPower), aimed and stored
+// as tracePhotons() does for area lights. Nothing without a specular mesh.
+PhotonTraceResult tracePhotonsFromSurfaces(const Scene& scene, const SurfaceEmitter& emitter,
+                                           const Color& emittedPower,
+                                           const PhotonTracerSettings& settings,
+                                           Progress* progress);
 
 }  // namespace penumbra

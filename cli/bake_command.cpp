@@ -1,11 +1,14 @@
-// `penumbra bake SCENE -o lit.glb`: solves radiosity on a scene and writes the refined mesh with
-// the solution as unlit vertex colours (radiosity/bake.h), for walkthroughs in any glTF viewer.
+// `penumbra bake SCENE -o lit.glb`: solves radiosity on a scene (with its light carried through
+// specular surfaces, passes/specular_transfer.h) and writes the refined mesh with the solution as
+// unlit vertex colours (radiosity/bake.h), for walkthroughs in any glTF viewer.
 #include "cli/commands.h"
 #include "cli/scene_input.h"
 #include "core/errors.h"
 #include "core/gltf_writer.h"
 #include "core/progress.h"
+#include "core/scene_contents.h"
 #include "core/stats.h"
+#include "passes/specular_transfer.h"
 #include "radiosity/bake.h"
 #include "radiosity/radiosity_mesh.h"
 #include "radiosity/radiosity_solver.h"
@@ -28,6 +31,8 @@ struct BakeOptions {
     std::optional<float> exposure;  // EV; none = automatic
     int threads = 0;
     RadiositySettings radiosity;
+    bool specularTransfer = true;  // carry the solution's light through specular surfaces
+    uint32_t seed = 0;             // of the specular transfer's photons
 };
 
 void bake(const BakeOptions& options) {
@@ -51,6 +56,11 @@ void bake(const BakeOptions& options) {
     RadiositySolver solver(*scene, mesh, options.radiosity);
     ConsoleSolveProgress solveProgress("radiosity", quiet);
     solver.solve(&solveProgress);
+    if (options.specularTransfer && analyseScene(*scene).specular) {
+        transferThroughSpecular(*scene, mesh, solver,
+                                {automaticTransferPhotons(mesh), options.seed}, quiet,
+                                solveProgress);
+    }
     const double solveSeconds = secondsSince(start);
 
     BakeResult result;
@@ -107,6 +117,13 @@ Command addBakeCommand(CLI::App& app) {
                         "Longest patch edge in metres (default 0: the scene's bounding radius)");
     command->add_option("--min-element-area", r.minElementArea,
                         "Smallest element in m² (default 0: total surface area / 16384)");
+    command
+        ->add_flag("!--no-specular-transfer", options->specularTransfer,
+                   "Leave out the light the solution's surfaces send through mirrors and glass "
+                   "onto other surfaces (photons shot from the solution, then solved again)")
+        ->capture_default_str();
+    command->add_option("--seed", options->seed, "Seed of the specular transfer's photons")
+        ->capture_default_str();
     return [options] { bake(*options); };
 }
 

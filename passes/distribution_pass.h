@@ -37,11 +37,13 @@ class DistributionPass : public SamplingPass {
     // The user's ambient constant stands for no light path: the plan names L D D+ as missing. The
     // radiosity solution's mean stands, crudely, for the indirect light it averages.
     std::string lightPaths() const override {
-        return ambient_ == Ambient::Constant ? "L S* E | L D S* E"
-                                             : distributionLightPaths(causticsInRadiosity_);
+        return ambient_ == Ambient::Constant
+                   ? "L S* E | L D S* E"
+                   : distributionLightPaths(causticsInRadiosity_, specularTransfer_);
     }
     void adapt(const PipelineShape& shape) override {
         causticsInRadiosity_ = shape.causticsInRadiosity;
+        specularTransfer_ = shape.specularTransferInRadiosity;
     }
     std::set<std::string> needs() const override {
         if (ambient_ == Ambient::Constant)
@@ -60,6 +62,7 @@ class DistributionPass : public SamplingPass {
     DistributionSettings settings_;
     Ambient ambient_;
     bool causticsInRadiosity_ = false;  // the solution holds the caustic photons (L S+ D+)
+    bool specularTransfer_ = false;     // the solution holds D S+ D too
     std::shared_ptr<const RadiositySolution> radiosity_;
     std::optional<SolutionForTracers> reusedSolution_;  // radiosity_ as the tracer reads it
     std::unique_ptr<DistributionTracer> tracer_;

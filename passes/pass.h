@@ -94,6 +94,10 @@ struct TransportFlags {
     // The pass's radiosity solution took the photons of a caustic map made before it, so it holds
     // L S+ D+ as well: the passes that reuse it take those caustics through it.
     bool solutionTakesCaustics = false;
+    // The pass's radiosity solution carries its own light through specular surfaces too (D S+ D,
+    // RadiosityPass's specular transfer), so it holds L S* D (S* D)* (without the caustic
+    // photons, L D (S* D)*).
+    bool solutionTransfersSpecular = false;
 };
 
 // What a pass learns of the rest of its pipeline when the pipeline is planned.
@@ -103,6 +107,9 @@ struct PipelineShape {
     std::set<std::string> neededLater;  // needed by a pass after this one
     bool causticPathsCounted = false;   // some pass of the pipeline counts L S+ D S* E
     bool causticsInRadiosity = false;   // a solution made before this pass holds L S+ D+
+    // A solution made before this pass carries light through specular surfaces (D S+ D).
+    bool specularTransferInRadiosity = false;
+    std::multiset<std::string> typesLater;  // the types of the passes after this one
 };
 
 class Pass {

@@ -31,15 +31,19 @@ std::optional<PipelineProblem> checkPipeline(Pipeline& pipeline) {
     }
     for (size_t i = 0; i < passes.size(); ++i) {
         shape.neededLater.clear();
+        shape.typesLater.clear();
         for (size_t j = i + 1; j < passes.size(); ++j) {
             for (const std::string& need : passes[j]->needs())
                 shape.neededLater.insert(need);
+            shape.typesLater.insert(passes[j]->type());
         }
         passes[i]->adapt(shape);
         for (const std::string& product : passes[i]->products())
             shape.madeBefore.insert(product);
-        shape.causticsInRadiosity =
-            shape.causticsInRadiosity || passes[i]->transportFlags().solutionTakesCaustics;
+        const TransportFlags flags = passes[i]->transportFlags();
+        shape.causticsInRadiosity = shape.causticsInRadiosity || flags.solutionTakesCaustics;
+        shape.specularTransferInRadiosity =
+            shape.specularTransferInRadiosity || flags.solutionTransfersSpecular;
     }
 
     std::set<std::string> made;

@@ -3,6 +3,7 @@
 #include "caustics/caustic_map.h"
 #include "core/material.h"
 #include "core/stats.h"
+#include "passes/specular_transfer.h"
 #include "radiosity/meshed_hit.h"
 #include "radiosity/solve_progress.h"
 #include "raytrace/tracing_steps.h"
@@ -18,6 +19,8 @@ const NamedValues<std::string> kSolvers = {{"hierarchical", "hierarchical"},
                                            {"progressive", "progressive"}};
 const NamedValues<RadiosityPass::Caustics> kCausticsModes = {
     {"auto", RadiosityPass::Caustics::Auto}, {"exclude", RadiosityPass::Caustics::Exclude}};
+const NamedValues<RadiosityPass::Transfer> kTransferModes = {
+    {"auto", RadiosityPass::Transfer::Auto}, {"exclude", RadiosityPass::Transfer::Exclude}};
 const NamedValues<RadiositySettings::Iteration> kIterations = {
     {"gauss-seidel", RadiositySettings::Iteration::GaussSeidel},
     {"jacobi", RadiositySettings::Iteration::Jacobi}};
@@ -55,20 +58,15 @@ void progressiveKeys(Settings& s, Keys& keys) {
 
 // The caustic photons as flux deposited where they landed.
 std::vector<FluxDeposit> causticDeposits(const CausticMap* map) {
-    std::vector<FluxDeposit> deposits;
     if (!map)
-        return deposits;  // the planner skipped the caustic pass: no specular surface
-    deposits.reserve(map->photons().size());
-    for (const Photon& photon : map->photons())
-        deposits.push_back(
-            {photon.mesh, photon.triangle, photon.barycentric, photon.n, photon.power});
-    return deposits;
+        return {};  // the planner skipped the caustic pass: no specular surface
+    return asDeposits(map->photons());
 }
 
 }  // namespace
 
-RadiosityPass::RadiosityPass(RadiositySettings settings, Caustics caustics)
-    : settings_(std::move(settings)), caustics_(caustics) {
+RadiosityPass::RadiosityPass(RadiositySettings settings, Caustics caustics, Transfer transfer)
+    : settings_(std::move(settings)), caustics_(caustics), transfer_(transfer) {
     validateRadiositySettings(std::get<RadiositySettings>(settings_));
 }
 
@@ -90,15 +88,42 @@ std::unique_ptr<Pass> RadiosityPass::fromScript(const ScriptTable& table, const 
     RadiositySettings s;
     Caustics caustics = Caustics::Auto;
     keys.choice("caustics", caustics, kCausticsModes);
+    Transfer transfer = Transfer::Auto;
+    keys.choice("specular_transfer", transfer, kTransferModes);
+    int64_t transferPhotons = kAutoTransferPhotons;
+    keys.orAuto("transfer_photons", transferPhotons, kAutoTransferPhotons, int64_t{1},
+                int64_t{1} << 32);
     hierarchicalKeys(s, keys);
-    return keys.construct("radiosity.",
-                          [&] { return std::make_unique<RadiosityPass>(s, caustics); });
+    return keys.construct("radiosity.", [&] {
+        auto pass = std::make_unique<RadiosityPass>(s, caustics, transfer);
+        pass->transferPhotons_ = transferPhotons;
+        return pass;
+    });
 }
 
 void RadiosityPass::adapt(const PipelineShape& shape) {
     view_ = !shape.neededLater.count(products::kRadiositySolution);
+    const bool hierarchical = std::holds_alternative<RadiositySettings>(settings_);
     takesCaustics_ = caustics_ == Caustics::Auto && shape.madeBefore.count(products::kCausticMap) &&
-                     std::holds_alternative<RadiositySettings>(settings_);
+                     hierarchical;
+    // A path pass that reuses the solution traces the light its reuse vertex receives through
+    // specular surfaces itself (raytrace/path_tracer.h): a solution holding it too would count
+    // it twice.
+    transfers_ = transfer_ == Transfer::Auto && hierarchical && !shape.typesLater.count("path");
+}
+
+std::string RadiosityPass::lightPaths() const {
+    if (!view_)
+        return "";
+    if (!transfers_)
+        return takesCaustics_ ? "L D* E | L S+ D+ E" : "LD*E";
+    return takesCaustics_ ? "L E | L S* D (S* D)* E" : "L E | L D (S* D)* E";
+}
+
+uint64_t RadiosityPass::transferPhotons(const RadiosityMesh& mesh) const {
+    if (transferPhotons_ != kAutoTransferPhotons)
+        return static_cast<uint64_t>(transferPhotons_);
+    return automaticTransferPhotons(mesh);
 }
 
 std::string RadiosityPass::skipReason(const SceneContents& contents) const {
@@ -141,6 +166,10 @@ void RadiosityPass::prepare(PassContext& context) {
         auto solver =
             std::make_unique<RadiositySolver>(context.scene, *mesh_, *hierarchical, deposits);
         solver->solve(&progress, refinementDeadline(context));
+        if (transfers_ && context.contents.specular)
+            transferThroughSpecular(context.scene, *mesh_, *solver,
+                                    {transferPhotons(*mesh_), context.settings.seed},
+                                    context.settings.quiet, progress);
         solution_ = std::move(solver);
     } else {
         const auto& progressive = std::get<ProgressiveSettings>(settings_);
@@ -219,6 +248,8 @@ PassStats RadiosityPass::parameters() const {
         }
         print("solver", shown.solver);
         print.choice("caustics", caustics_, kCausticsModes);
+        print.choice("specular_transfer", transfer_, kTransferModes);
+        print.orAuto("transfer_photons", transferPhotons_, kAutoTransferPhotons);
         hierarchicalKeys(shown, print);
         PassStats stats = print.stats();
         // What "auto" means for this pipeline.
@@ -226,6 +257,11 @@ PassStats RadiosityPass::parameters() const {
             if (key == "caustics" && caustics_ == Caustics::Auto)
                 value += takesCaustics_ ? " (the photons of the caustic pass before, if it runs)"
                                         : " (no caustic map before)";
+            if (key == "specular_transfer" && transfer_ == Transfer::Auto)
+                value += transfers_ ? " (if the scene has specular surfaces)"
+                                    : " (off: the path pass traces that light)";
+            if (key == "transfer_photons" && transferPhotons_ == kAutoTransferPhotons && mesh_)
+                value += " (" + std::to_string(transferPhotons(*mesh_)) + ")";
         }
         return stats;
     }

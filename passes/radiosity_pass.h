@@ -16,6 +16,14 @@
 // the pass is told to leave them out (Caustics::Exclude, the script's caustics = "exclude"). Its
 // transport flags then say so (solutionTakesCaustics), by which the passes reusing the solution
 // know what it holds. The progressive solver takes no photons.
+//
+// Specular transfer: the hierarchical solution's links carry light between diffuse surfaces only;
+// mirrors and glass send it on too (a floor lit through the glass balustrade by the wall behind
+// it: D S+ D). Unless told to leave it out (Transfer::Exclude, specular_transfer = "exclude"), or
+// a path pass reuses the solution (its reuse vertex traces that light itself), the pass shoots
+// photons from the solved light and solves again until that light settles
+// (passes/specular_transfer.h): the solution then holds L S* D (S* D)*, and its transport flags
+// say so to the passes reusing it.
 #pragma once
 
 #include "passes/pass.h"
@@ -36,9 +44,15 @@ class RadiosityPass : public SamplingPass {
     // Whether the solution takes the photons of a caustic map made before the pass: Auto takes
     // them when there is one (hierarchical solver only).
     enum class Caustics { Auto, Exclude };
+    // Whether the solution carries its light through specular surfaces: Auto does unless a path
+    // pass reuses it (hierarchical solver only; nothing to do without specular surfaces).
+    enum class Transfer { Auto, Exclude };
+    // transfer_photons = "auto": automaticTransferPhotons() (passes/specular_transfer.h).
+    static constexpr int64_t kAutoTransferPhotons = 0;
 
     // The settings are validated here (UsageError naming the key).
-    explicit RadiosityPass(RadiositySettings settings, Caustics caustics = Caustics::Auto);
+    explicit RadiosityPass(RadiositySettings settings, Caustics caustics = Caustics::Auto,
+                           Transfer transfer = Transfer::Auto);
     explicit RadiosityPass(ProgressiveSettings settings);
     ~RadiosityPass() override;
     // The pass of a script's [[pass]] table of type "radiosity": `solver` picks the method and so
@@ -47,11 +61,9 @@ class RadiosityPass : public SamplingPass {
     static std::unique_ptr<Pass> fromScript(const ScriptTable& table, const PassOverrides&);
 
     std::string type() const override { return "radiosity"; }
-    std::string lightPaths() const override {
-        return !view_ ? "" : takesCaustics_ ? "L D* E | L S+ D+ E" : "LD*E";
-    }
+    std::string lightPaths() const override;
     std::set<std::string> products() const override { return {products::kRadiositySolution}; }
-    TransportFlags transportFlags() const override { return {false, takesCaustics_}; }
+    TransportFlags transportFlags() const override { return {false, takesCaustics_, transfers_}; }
     void adapt(const PipelineShape& shape) override;
     // A solution that only later passes reuse is zero without a diffuse surface: skipped then.
     std::string skipReason(const SceneContents& contents) const override;
@@ -77,8 +89,14 @@ class RadiosityPass : public SamplingPass {
     std::string activity() const override { return "radiosity view"; }
 
   private:
+    // Photons per specular-transfer round, transferPhotons_ with auto resolved for the mesh.
+    uint64_t transferPhotons(const RadiosityMesh& mesh) const;
+
     std::variant<RadiositySettings, ProgressiveSettings> settings_;
     Caustics caustics_ = Caustics::Exclude;
+    Transfer transfer_ = Transfer::Auto;
+    int64_t transferPhotons_ = kAutoTransferPhotons;
+    bool transfers_ = false;      // the solution carries its light through specular surfaces
     bool view_ = true;            // forms the image (no later pass reuses the solution)
     bool takesCaustics_ = false;  // the solution takes a caustic map made before the pass
     const Scene* scene_ = nullptr;

@@ -5,6 +5,8 @@
 #include "radiosity/element_sampling.h"
 #include "radiosity/solver_nodes.h"
 
+#include <tbb/parallel_for.h>
+
 namespace penumbra {
 
 DirectIrradiance::DirectIrradiance(const Scene& scene, const RadiosityMesh& mesh,
@@ -19,11 +21,35 @@ void DirectIrradiance::resize() {
     const size_t nodes = 2 * mesh_.elementCount();
     D_.resize(nodes, Color(0.0f));
     Dspread_.resize(nodes, 0.0f);
+    if (transferred_)
+        Dtransferred_.resize(nodes, Color(0.0f));
 }
 
 void DirectIrradiance::inherit(int childNode, int parentNode) {
-    D_[static_cast<size_t>(childNode)] = D_[static_cast<size_t>(parentNode)];
-    Dspread_[static_cast<size_t>(childNode)] = Dspread_[static_cast<size_t>(parentNode)];
+    const auto child = static_cast<size_t>(childNode), parent = static_cast<size_t>(parentNode);
+    D_[child] = D_[parent];
+    Dspread_[child] = Dspread_[parent];
+    if (transferred_)
+        Dtransferred_[child] = Dtransferred_[parent];
+}
+
+// The mean irradiance over the side's exposed part, divided by pi, of the flux deposited on it:
+// photons land on the exposed part only.
+Color DirectIrradiance::depositedD(const DepositedFlux& flux, int element, bool front) const {
+    const float exposed = exposure_.fraction(node(element, front));
+    const Color D = flux.flux(element, front) / (kPi * mesh_.area(element));
+    return exposed > 0.0f ? D / exposed : D;
+}
+
+void DirectIrradiance::setTransferred(const std::vector<FluxDeposit>& deposits) {
+    transferred_ = std::make_unique<DepositedFlux>(mesh_, deposits);
+    Dtransferred_.assign(D_.size(), Color(0.0f));
+    tbb::parallel_for(size_t(0), mesh_.elementCount(), [&](size_t i) {
+        const int e = static_cast<int>(i);
+        for (const bool front : {true, false})
+            Dtransferred_[static_cast<size_t>(node(e, front))] =
+                depositedD(*transferred_, e, front);
+    });
 }
 
 // For each element: the irradiance of every delta light (point, spot, directional) at n
@@ -50,13 +76,11 @@ uint64_t DirectIrradiance::compute(const std::vector<int>& elements, SolveProgre
                                             ElementExposure::kPointSeed, &exposure_.coincident());
         for (int side = 0; side < 2; ++side) {
             const int nd = node(e, side == 0);
-            Color D = direct.D[side];
-            if (deposits_)
-                D += deposits_->flux(e, side == 0) / (kPi * mesh_.area(e));
-            // The mean over the exposed part: the covered points' shadow rays are blocked, and
-            // photons land on the exposed part only.
+            // The mean over the exposed part: the covered points' shadow rays are blocked.
             const float exposed = exposure_.fraction(nd);
-            D_[nd] = exposed > 0.0f ? D / exposed : D;
+            D_[nd] = exposed > 0.0f ? direct.D[side] / exposed : direct.D[side];
+            if (deposits_)
+                D_[nd] += depositedD(*deposits_, e, side == 0);
             Dspread_[nd] = direct.spread[side];
         }
     });

@@ -2,6 +2,12 @@
 // before it gathers: D_i, the irradiance of the punctual lights (point, spot, directional) and of
 // the flux deposited by paths the solver does not follow (the caustic photons, deposited_flux.h),
 // divided by pi (cd/m²), the mean over the side's exposed part (element_exposure.h).
+//
+// Two kinds of deposited flux: the sources' (the caustic photons, L S+ D), part of the first
+// reflection of the sources that the two-pass methods trace themselves, and the transferred
+// (the solution's own reflected light carried through specular surfaces, D S+ D:
+// setTransferred()), part of the indirect light. D sums both; computeDirectPart shows only the
+// sources' (show()).
 #pragma once
 
 #include "core/math.h"
@@ -34,23 +40,49 @@ class DirectIrradiance {
     // by one per element. Returns the shadow rays it cast.
     uint64_t compute(const std::vector<int>& elements, SolveProgress* progress = nullptr);
 
-    const Color& D(int node) const { return D_[static_cast<size_t>(node)]; }
+    // What D() shows: everything (the default), the sources' part only, or nothing; the
+    // solver's first reflection of the emission gathers with less for a sweep.
+    enum class Part { All, Sources, None };
+    void show(Part part) { shown_ = part; }
+
+    Color D(int node) const {
+        const auto n = static_cast<size_t>(node);
+        switch (shown_) {
+            case Part::All:
+                return transferred_ ? D_[n] + Dtransferred_[n] : D_[n];
+            case Part::Sources:
+                return D_[n];
+            case Part::None:
+                break;
+        }
+        return Color(0.0f);
+    }
     // The spread of max(D) of the punctual lights over the element's sample points.
     float spread(int node) const { return Dspread_[static_cast<size_t>(node)]; }
-    // Exchanges D with `values`, one per node: the solver's first reflection of the emission
-    // gathers without it for a sweep.
-    void swap(std::vector<Color>& values) { D_.swap(values); }
     // Null without deposits.
     const DepositedFlux* deposits() const { return deposits_.get(); }
 
+    // Replaces the transferred flux (the light the solution's reflection sent through specular
+    // surfaces onto the elements) with `deposits`, on every element side of the mesh as it is.
+    void setTransferred(const std::vector<FluxDeposit>& deposits);
+    // Null before setTransferred().
+    const DepositedFlux* transferred() const { return transferred_.get(); }
+
   private:
+    Color depositedD(const DepositedFlux& flux, int element, bool front) const;
+
     const Scene& scene_;
     const RadiosityMesh& mesh_;
     const ElementExposure& exposure_;
     int samples_;
-    std::unique_ptr<DepositedFlux> deposits_;  // null without deposits
+    // D's two parts: the sources' is in D_ (null deposits_ without caustic photons), the
+    // transferred flux's in Dtransferred_ (null transferred_ before setTransferred()).
+    std::unique_ptr<DepositedFlux> deposits_;
+    std::unique_ptr<DepositedFlux> transferred_;
     std::vector<Color> D_;
+    std::vector<Color> Dtransferred_;
     std::vector<float> Dspread_;
+    Part shown_ = Part::All;
 };
 
 }  // namespace penumbra

@@ -330,8 +330,9 @@ ChangeSums RadianceHierarchy::sweep() {
 
 // The first reflection of the sources' light, for indirectRadiance(): what each leaf side gathers
 // from the emission alone, through its own links and its ancestors', plus the punctual lights'
-// direct light, times rho: direct_i = rho_i (D_i + sum_j K_ij Le_j), pushed and pulled like the
-// whole solution. The indirect part L - Le - direct is then the solution's light that has been
+// direct light, times rho: direct_i = rho_i (D_i + sum_j K_ij Le_j) (D_i of the sources only: not
+// the flux transferred through specular surfaces, which is indirect light), pushed and pulled like
+// the whole solution. The indirect part L - Le - direct is then the solution's light that has been
 // reflected at least twice (paths L D D+), by the same links, form factors and visibility as the
 // solution itself, so that a ray tracer adding its own direct light back counts every path once
 // (the two-pass method of Wallace, Cohen and Greenberg 1987; Sillion and Puech 1989).
@@ -348,8 +349,7 @@ void RadianceHierarchy::computeDirectPart(DirectIrradiance& irradiance) {
     std::vector<float> Lmin = Lmin_, Lmax = Lmax_, clusterLmin = clusterLmin_,
                        clusterLmax = clusterLmax_;
     // The emission at every node (a parent's: its leaves' area mean, as a source shows it).
-    std::vector<Color> D(L_.size(), Color(0.0f));
-    irradiance.swap(D);
+    irradiance.show(DirectIrradiance::Part::None);
     std::fill(H_.begin(), H_.end(), Color(0.0f));
     std::fill(Hchild_.begin(), Hchild_.end(),
               std::array<Color, 4>{Color(0.0f), Color(0.0f), Color(0.0f), Color(0.0f)});
@@ -358,13 +358,15 @@ void RadianceHierarchy::computeDirectPart(DirectIrradiance& irradiance) {
     std::fill(clusterW_.begin(), clusterW_.end(), Mat3(0.0f));
     std::fill(clusterQ_.begin(), clusterQ_.end(), SecondMoment{});
     pushPullAll();
-    irradiance.swap(D);
-    // Every node gathers from the emission; then Le + rho (D + H_e) at the leaves.
+    // Every node gathers from the emission; then Le + rho (D + H_e) at the leaves, D of the
+    // sources only (the transferred flux is indirect light).
+    irradiance.show(DirectIrradiance::Part::Sources);
     tbb::parallel_for(size_t(0), links_.elementSides(),
                       [&](size_t n) { gather(static_cast<int>(n)); });
     tbb::parallel_for(size_t(0), links_.clusters(),
                       [&](size_t c) { gatherCluster(static_cast<int>(c)); });
     pushPullAll();
+    irradiance.show(DirectIrradiance::Part::All);
     direct_.assign(L_.size(), Color(0.0f));
     for (size_t n = 0; n < L_.size(); ++n) {
         if (mesh_.isLeaf(element(static_cast<int>(n))))

@@ -154,8 +154,7 @@ void RadiositySolver::computeVertexValues() {
         return elementIndirect(e, side);
     }));
     vertexReflected_.compute(mesh_, exposure_->shownValues([this](int element, bool side) {
-        const int n = node(element, side);
-        return glm::max(radiance_->L(n) - radiance_->emission(n), Color(0.0f));
+        return reflectedRadiance(element, side);
     }));
 }
 
@@ -268,6 +267,33 @@ void RadiositySolver::solve(SolveProgress* progress, const std::function<bool()>
     progress_ = nullptr;
 }
 
+void RadiositySolver::transferThroughSpecular(const std::vector<FluxDeposit>& deposits,
+                                              SolveProgress* progress) {
+    const auto start = std::chrono::steady_clock::now();
+    progress_ = progress;
+    ++transferRounds_;
+    const std::string stage = "specular transfer " + std::to_string(transferRounds_);
+    irradiance_->setTransferred(deposits);
+    iteration_->run(settings_.convergence, rounds_, stage + ": gather", progress_);
+    beginStage(stage + ": push-pull of the direct part, vertex values", 0);
+    radiance_->computeDirectPart(*irradiance_);
+    computeVertexValues();
+    endStage(std::to_string(irradiance_->transferred()->count()) + " deposits");
+    progress_ = nullptr;
+    const double seconds = secondsSince(start);
+    secondsTransfer_ += seconds;
+    secondsTotal_ += seconds;
+}
+
+Color RadiositySolver::reflectedRadiance(int element, bool front) const {
+    const int n = node(element, front);
+    return glm::max(radiance_->L(n) - radiance_->emission(n), Color(0.0f));
+}
+
+float RadiositySolver::exposedFraction(int element, bool front) const {
+    return exposure_->fraction(node(element, front));
+}
+
 Color RadiositySolver::radiance(uint32_t mesh, uint32_t triangle, Vec3 b, bool includeEmission,
                                 bool front) const {
     const ElementPoint point = mesh_.locate(mesh, triangle, b);
@@ -314,6 +340,7 @@ PassStats RadiositySolver::stats() const {
     }
     const DepositedFlux* deposits = irradiance_->deposits();
     const float depositedFlux = deposits ? luminance(deposits->totalPower()) : 0.0f;
+    const DepositedFlux* transferred = irradiance_->transferred();
     return {{"patches", std::to_string(mesh.patches)},
             {"elements", std::to_string(mesh.elements)},
             {"leaves", std::to_string(mesh.leaves)},
@@ -332,6 +359,11 @@ PassStats RadiositySolver::stats() const {
             {"rays", std::to_string(rays_ + refiner_->rays() + finalGather_->rays())},
             {"deposited_photons", std::to_string(deposits ? deposits->count() : 0)},
             {"deposited_flux_lm", formatStat(depositedFlux)},
+            {"specular_transfer_rounds", std::to_string(transferRounds_)},
+            {"specular_transfer_deposits", std::to_string(transferred ? transferred->count() : 0)},
+            {"specular_transfer_flux_lm",
+             formatStat(transferred ? luminance(transferred->totalPower()) : 0.0f)},
+            {"seconds_specular_transfer", formatStat(secondsTransfer_)},
             {"direct_flux_lm", formatStat(directFlux)},
             {"indirect_flux_lm", formatStat(indirectFlux)},
             {"memory_mib", formatStat(static_cast<double>(memory) / (1024.0 * 1024.0))},

@@ -9,7 +9,9 @@
 // takes part with all its non-delta reflection, approximated as Lambertian with the same
 // hemispherical reflectance (rho = Bsdf::diffuseGlossyReflectance()): the energy is right, the
 // directional distribution of rough glossy reflection is not. Delta (S) reflection and
-// transmission are left to the ray-tracing passes. The solution also splits the
+// transmission are left to the ray-tracing passes, but for what a caller gives back as deposited
+// flux: the caustic photons (L S+ D) and the solution's own light carried through specular
+// surfaces (D S+ D, transferThroughSpecular). The solution also splits the
 // reflected light into the first reflection of the sources (paths L D E: Le of the emissive
 // elements and the punctual lights, reflected once) and the rest (L D D+ E), for the two-pass
 // pipelines that trace the first themselves (indirectRadiance). Surfaces the mesh does not hold
@@ -125,6 +127,22 @@ class RadiositySolver : public RadiositySolution {
     void solve(SolveProgress* progress = nullptr,
                const std::function<bool()>& stopRefining = nullptr);
 
+    // Extended transfer through specular surfaces (paths D S+ D, which the links do not carry):
+    // `deposits` is the flux that the solution's reflected light (reflectedRadiance, shot as
+    // photons by the caller: passes/radiosity_pass.cpp) sent through mirrors and glass onto the
+    // meshed surfaces. It replaces that of any earlier call as light given on the element sides
+    // (D_i), part of the indirect light, not of the sources' first reflection; the gather sweeps
+    // then converge again with it, and the direct part and vertex values are made anew. Called
+    // after solve(); each call with photons shot from the solution it left carries the light one
+    // more specular transfer further (the fixed-point iteration L = S(E + T L)).
+    void transferThroughSpecular(const std::vector<FluxDeposit>& deposits,
+                                 SolveProgress* progress = nullptr);
+    // The reflected radiance of an element side (its own emission left out), cd/m², and the
+    // fraction of its area that is exposed (element_exposure.h), for a caller that samples the
+    // solution's light as an emitter.
+    Color reflectedRadiance(int element, bool front) const;
+    float exposedFraction(int element, bool front) const;
+
     // Radiance (cd/m²) leaving the surface at barycentric b of scene triangle (mesh, triangle)
     // on its front (or back) side: the Gouraud interpolation of the reflected part
     // (RadiosityMesh::setElementValues) plus, if includeEmission, the element's own flat Le. A
@@ -161,7 +179,8 @@ class RadiositySolver : public RadiositySolution {
     // links), refine (the rounds), solve (the sweeps); form_factors is the part of linking and
     // refine spent on the form factors and visibility of new links; the process's peak resident
     // memory (getrusage ru_maxrss, MiB) at the end of each stage; and the reflected luminous flux
-    // (pi sum_i A_i Y(L_i) over leaf sides, lm) of the direct part and of the indirect part.
+    // (pi sum_i A_i Y(L_i) over leaf sides, lm) of the direct part and of the indirect part; the
+    // specular transfer's rounds, deposits, flux (lm) and seconds (its gathers included).
     PassStats stats() const override;
 
   private:
@@ -194,6 +213,8 @@ class RadiositySolver : public RadiositySolution {
     SolveProgress* progress_ = nullptr;  // during solve() only
     uint64_t rays_ = 0;
     int finalGatherPasses_ = 0;
+    int transferRounds_ = 0;
+    double secondsTransfer_ = 0;
     double secondsDirect_ = 0, secondsLinking_ = 0, secondsSolve_ = 0, secondsRefine_ = 0,
            secondsFinalGather_ = 0, secondsTotal_ = 0;
     double peakDirect_ = 0, peakLinking_ = 0, peakRefine_ = 0, peakSolve_ = 0;  // MiB

@@ -6,9 +6,11 @@
 
 namespace penumbra {
 
-std::string distributionLightPaths(bool causticsInRadiosity) {
-    return causticsInRadiosity ? "L S* E | L D S* E | L S* D D+ S* E"
-                               : "L S* E | L D S* E | L D D+ S* E";
+std::string distributionLightPaths(bool causticsInRadiosity, bool specularTransfer) {
+    // The ambient term is the solution's indirect part: what it holds, less the first
+    // reflection of the sources, i.e. its paths with two D vertices or more.
+    const std::string start = causticsInRadiosity ? "L S* D" : "L D";
+    return "L S* E | L D S* E | " + start + (specularTransfer ? " (S* D)+" : " D+") + " S* E";
 }
 
 DistributionTracer::DistributionTracer(const Scene& scene, const DistributionSettings& settings,

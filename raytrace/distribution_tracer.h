@@ -40,8 +40,9 @@ struct DistributionSettings {
 
 // The light paths distribution ray tracing counts with a radiosity solution's indirect part as
 // its ambient term; with a solution that took the caustic photons (L S+ D+), the ambient term
-// holds their further bounces too.
-std::string distributionLightPaths(bool causticsInRadiosity = false);
+// holds their further bounces too; with one that carried its light through specular surfaces
+// (D S+ D, the radiosity pass's specular transfer), those paths too.
+std::string distributionLightPaths(bool causticsInRadiosity = false, bool specularTransfer = false);
 
 class DistributionTracer {
   public:

@@ -72,13 +72,7 @@ void expectRatios(const Means& test, const Means& ref, const char* label, double
 class CausticScene : public testing::Test {
   protected:
     Image render(const std::string& input, const std::string& options, CliResult* out = nullptr) {
-        const std::string file = dir_.file("image.exr");
-        const CliResult result =
-            runPenumbra("render " + input + " -o " + file + kSize + " " + options);
-        EXPECT_EQ(result.status, 0) << result.output;
-        if (out)
-            *out = result;
-        return readImage(file);
+        return renderImage(input, dir_.file("image.exr"), std::string(kSize) + " " + options, out);
     }
 
     TempDir dir_{"caustic-scene"};

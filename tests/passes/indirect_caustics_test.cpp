@@ -31,12 +31,8 @@ class IndirectCaustics : public testing::Test {
     }
 
     Image render(const std::string& input, const std::string& options, CliResult* out) {
-        const CliResult result = runPenumbra("render " + input + " -o " + dir_.file("out.exr") +
-                                             " --width 64 --height 64 --seed 3 " + options);
-        EXPECT_EQ(result.status, 0) << result.output;
-        if (out)
-            *out = result;
-        return readImage(dir_.file("out.exr"));
+        return renderImage(input, dir_.file("out.exr"),
+                           "--width 64 --height 64 --seed 3 " + options, out);
     }
 
     // The hybrid's passes as a script, the radiosity pass's caustics key set to `caustics` and

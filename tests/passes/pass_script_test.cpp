@@ -138,7 +138,8 @@ TEST_F(PassScriptTest, UnknownPassKeyAtTheKeyWithTheValidOnes) {
     const std::string message =
         error(kScene + "[[pass]]\ntype = \"radiosity\"\nepsilon = 0.1\n  epsiln = 0.1\n");
     EXPECT_EQ(firstLine(message),
-              "5:3: pass[0].epsiln: unknown key; valid keys here: type, solver, caustics, epsilon, "
+              "5:3: pass[0].epsiln: unknown key; valid keys here: type, solver, caustics, "
+              "specular_transfer, transfer_photons, epsilon, "
               "patch_edge_length, min_element_area, convergence, visibility_samples, "
               "max_iterations, max_refinements, iteration, cluster_min_patches, "
               "subdivision_threshold, final_gather");

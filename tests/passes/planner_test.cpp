@@ -158,30 +158,56 @@ TEST(Planner, HybridPresetFeedsTheCausticPhotonsToTheSolution) {
     ASSERT_TRUE(problem.has_value());
     EXPECT_NE(problem->message.find("both count the light paths L S D E"), std::string::npos)
         << problem->message;
-    EXPECT_EQ(withPhotons.passes()[1]->lightPaths(), "L D* E | L S+ D+ E");
+    // The view's solution carries its light through the specular surfaces too (D S+ D).
+    EXPECT_EQ(withPhotons.passes()[1]->lightPaths(), "L E | L S* D (S* D)* E");
     Pipeline without = causticsThenView(RadiosityPass::Caustics::Exclude);
     EXPECT_FALSE(checkPipeline(without).has_value());
-    EXPECT_EQ(without.passes()[1]->lightPaths(), "LD*E");
+    EXPECT_EQ(without.passes()[1]->lightPaths(), "L E | L D (S* D)* E");
     EXPECT_TRUE(without.passes()[1]->products() == std::set<std::string>{"radiosity"});
 }
 
 // Distribution ray tracing after a solution that took the caustic photons: its ambient term (the
 // solution's indirect part) holds the caustics' further bounces, so L S D D E is counted, and the
-// caustics pass's own paths are not counted twice.
+// caustics pass's own paths are not counted twice. With the solution's specular transfer (the
+// default) it also holds the light that diffuse surfaces send through specular ones (L D S D E);
+// without it, not.
 TEST(Planner, DistributionTakesIndirectCausticsFromASolutionWithPhotons) {
-    std::vector<std::unique_ptr<Pass>> passes;
-    passes.push_back(std::make_unique<CausticPass>(CausticSettings{}));
-    passes.push_back(std::make_unique<RadiosityPass>(RadiositySettings{}));
-    passes.push_back(std::make_unique<DistributionPass>(DistributionSettings{}));
-    Pipeline pipeline("caustics-distribution", std::move(passes));
-    ASSERT_FALSE(checkPipeline(pipeline).has_value());
-    EXPECT_EQ(pipeline.passes()[2]->lightPaths(), distributionLightPaths(true));
-    const PathSet counted = PathSet::parse(pipeline.passes()[0]->lightPaths()) |
-                            PathSet::parse(pipeline.passes()[2]->lightPaths());
-    EXPECT_TRUE((PathSet::parse("L S D D E | L S S D D D E") - counted).empty());
-    EXPECT_FALSE((PathSet::parse("L D S D E") - counted).empty());
+    const auto pipelineWith = [](RadiosityPass::Transfer transfer) {
+        std::vector<std::unique_ptr<Pass>> passes;
+        passes.push_back(std::make_unique<CausticPass>(CausticSettings{}));
+        passes.push_back(std::make_unique<RadiosityPass>(RadiositySettings{},
+                                                         RadiosityPass::Caustics::Auto, transfer));
+        passes.push_back(std::make_unique<DistributionPass>(DistributionSettings{}));
+        return Pipeline("caustics-distribution", std::move(passes));
+    };
+    for (const auto transfer : {RadiosityPass::Transfer::Auto, RadiosityPass::Transfer::Exclude}) {
+        const bool transfers = transfer == RadiosityPass::Transfer::Auto;
+        Pipeline pipeline = pipelineWith(transfer);
+        ASSERT_FALSE(checkPipeline(pipeline).has_value());
+        EXPECT_EQ(pipeline.passes()[2]->lightPaths(), distributionLightPaths(true, transfers));
+        const PathSet counted = PathSet::parse(pipeline.passes()[0]->lightPaths()) |
+                                PathSet::parse(pipeline.passes()[2]->lightPaths());
+        EXPECT_TRUE((PathSet::parse("L S D D E | L S S D D D E") - counted).empty());
+        EXPECT_EQ((PathSet::parse("L D S D E | L S D S D D S D E") - counted).empty(), transfers);
+    }
     const PathSet withoutPhotons = PathSet::parse(distributionLightPaths(false));
     EXPECT_TRUE((withoutPhotons - PathSet::parse(distributionLightPaths(true))).empty());
+    EXPECT_TRUE((PathSet::parse(distributionLightPaths(true)) -
+                 PathSet::parse(distributionLightPaths(true, true)))
+                    .empty());
+}
+
+// A path pass that reuses the solution traces the light its reuse vertex receives through
+// specular surfaces itself: the solution then carries none (its transfer would count it twice).
+TEST(Planner, NoSpecularTransferInASolutionThePathTracerReuses) {
+    for (const char* preset : {"hybrid", "hybrid-preview"}) {
+        Pipeline pipeline = makePipelinePreset(preset, RenderSettings{});
+        ASSERT_FALSE(checkPipeline(pipeline).has_value());
+        EXPECT_FALSE(pipeline.passes()[1]->transportFlags().solutionTransfersSpecular) << preset;
+    }
+    Pipeline distribution = makePipelinePreset("distribution", RenderSettings{});
+    ASSERT_FALSE(checkPipeline(distribution).has_value());
+    EXPECT_TRUE(distribution.passes()[1]->transportFlags().solutionTransfersSpecular);
 }
 
 TEST(Planner, RefusesCausticsCountedTwice) {

@@ -1,5 +1,9 @@
 #include "tests/support/cli_runner.h"
 
+#include "core/image_io.h"
+
+#include <gtest/gtest.h>
+
 #include <unistd.h>
 
 #include <sys/wait.h>
@@ -42,6 +46,15 @@ double regionMean(const Image& image, int channel, int x0, int y0, int x1, int y
             sum += image.at(x, y, channel);
     }
     return sum / (static_cast<double>(x1 - x0) * (y1 - y0));
+}
+
+Image renderImage(const std::string& input, const std::string& output, const std::string& options,
+                  CliResult* out) {
+    const CliResult result = runPenumbra("render " + input + " -o " + output + " " + options);
+    EXPECT_EQ(result.status, 0) << result.output;
+    if (out)
+        *out = result;
+    return readImage(output);
 }
 
 double luminanceMean(const Image& image) {

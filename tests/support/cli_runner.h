@@ -16,6 +16,11 @@ struct CliResult {
 // Runs build/bin/penumbra with the given arguments (a shell-quoted string).
 CliResult runPenumbra(const std::string& arguments);
 
+// Runs `penumbra render INPUT -o OUTPUT OPTIONS`, expects (gtest) exit status 0, and returns the
+// image written; the run's status and output go to `out` if given.
+Image renderImage(const std::string& input, const std::string& output, const std::string& options,
+                  CliResult* out = nullptr);
+
 // A fresh, empty directory for one test's files, removed when the object goes away.
 class TempDir {
   public:

@@ -28,6 +28,20 @@ void addMirrorRoom(GltfBuilder& scene) {
     scene.setPerspectiveCamera({0.0f, -0.2f, 0.99f}, {0.0f, 0.0f, 0.0f, 1.0f}, 1.4f);
 }
 
+void addMirrorCeilingRoom(GltfBuilder& scene) {
+    const int walls = scene.addMaterial({.baseColor = Color(0.75f, 0.7f, 0.6f)});
+    addClosedBox(scene, walls, walls);
+    const int mirror = scene.addMaterial(
+        {.baseColor = Color(0.95f), .lambertian = false, .metallic = 1.0f, .roughness = 0.0f});
+    constexpr float m = 1.0f, y = 0.99f;
+    scene.addQuad({-m, y, -m}, {m, y, -m}, {m, y, m}, {-m, y, m}, mirror);  // faces down
+    const int lamp = scene.addMaterial(
+        {.baseColor = Color(0.0f), .emissive = Color(1.0f), .emissiveStrength = 20.0f});
+    constexpr float s = 0.2f, h = 0.9f;
+    scene.addQuad({-s, h, -s}, {s, h, -s}, {s, h, s}, {-s, h, s}, lamp);  // faces down
+    scene.setPerspectiveCamera({0.0f, -0.3f, 0.99f}, {0.0f, 0.0f, 0.0f, 1.0f}, 1.4f);
+}
+
 void addClosedBox(GltfBuilder& scene, int walls, int floor, float h) {
     const Vec3 c[8] = {{-h, -h, -h}, {h, -h, -h}, {h, h, -h}, {-h, h, -h},
                        {-h, -h, h},  {h, -h, h},  {h, h, h},  {-h, h, h}};

@@ -1,0 +1,61 @@
+#include "passes/specular_transfer.h"
+
+#include "core/progress.h"
+#include "radiosity/radiosity_mesh.h"
+#include "radiosity/radiosity_solver.h"
+#include "radiosity/reflected_light_emitter.h"
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+#include <string>
+
+namespace penumbra {
+
+uint64_t automaticTransferPhotons(const RadiosityMesh& mesh) {
+    return std::max<uint64_t>(kBaseTransferPhotons, kTransferPhotonsPerLeaf * mesh.leafCount());
+}
+
+std::vector<FluxDeposit> asDeposits(std::span<const Photon> photons) {
+    std::vector<FluxDeposit> deposits;
+    deposits.reserve(photons.size());
+    for (const Photon& photon : photons)
+        deposits.push_back(
+            {photon.mesh, photon.triangle, photon.barycentric, photon.n, photon.power});
+    return deposits;
+}
+
+void transferThroughSpecular(const Scene& scene, const RadiosityMesh& mesh, RadiositySolver& solver,
+                             const SpecularTransferSettings& settings, bool quiet,
+                             SolveProgress& solveProgress) {
+    double previous = 0.0;
+    for (int round = 0; round < kMaxSpecularTransfers; ++round) {
+        const ReflectedLightEmitter emitter(scene, mesh, solver);
+        const SurfaceEmitter sample = [&](float uChoice, Vec2 u) -> std::optional<SurfaceEmission> {
+            const auto point = emitter.sample(uChoice, u);
+            if (!point)
+                return std::nullopt;
+            return SurfaceEmission{point->p, point->pError, point->n, point->L, point->pdf};
+        };
+        PhotonTracerSettings photons;
+        photons.photons = settings.photons;
+        photons.seed = settings.seed;
+        photons.firstIndex = static_cast<uint64_t>(round) * settings.photons;
+        PhotonTraceResult traced;
+        {
+            Progress progress("radiosity: specular transfer " + std::to_string(round + 1),
+                              settings.photons, quiet);
+            traced = tracePhotonsFromSurfaces(scene, sample, emitter.power(), photons, &progress);
+        }
+        if (traced.specularMeshes == 0)
+            return;
+        solver.transferThroughSpecular(asDeposits(traced.photons), &solveProgress);
+        const double transferred = luminance(traced.storedPower);
+        const double change = std::abs(transferred - previous);
+        previous = transferred;
+        if (change <= kTransferConvergence * luminance(emitter.power()))
+            return;
+    }
+}
+
+}  // namespace penumbra

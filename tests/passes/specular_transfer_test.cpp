@@ -1,0 +1,73 @@
+// The radiosity solution's transfer through specular surfaces (RadiosityPass's specular transfer:
+// photons shot from the solved light through mirrors and glass, D S+ D) in the distribution
+// preview. A closed room whose ceiling is one mirror, lit by a lamp under it that faces down:
+// the lamp sends nothing up, so no light reaches the mirror from the lamp (no caustic, L S D),
+// but the lit floor and walls see themselves in it, and that light (L D S D, and its further
+// bounces) is a large part of the room's. The path tracer is the oracle; without the transfer
+// (specular_transfer = "exclude") the distribution pipeline misses that light and the planner
+// names the paths.
+#include "core/image_io.h"
+#include "tests/support/cli_runner.h"
+#include "tests/support/gltf_builder.h"
+#include "tests/support/radiosity_scenes.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <fstream>
+#include <string>
+
+namespace penumbra::test {
+namespace {
+
+class SpecularTransfer : public testing::Test {
+  protected:
+    void SetUp() override {
+        GltfBuilder scene;
+        addMirrorCeilingRoom(scene);
+        scene.write(dir_.file("room.gltf"));
+    }
+
+    double render(const std::string& input, const std::string& options, CliResult* out) {
+        return luminanceMean(renderImage(input, dir_.file("out.exr"),
+                                         "--width 64 --height 64 --seed 3 " + options, out));
+    }
+
+    // The distribution preset's passes as a script, the radiosity pass's specular transfer left
+    // out.
+    std::string withoutTransfer() {
+        const std::string path = dir_.file("no-transfer.toml");
+        std::ofstream(path) << "scene = \"room.gltf\"\n"
+                            << "[[pass]]\ntype = \"caustics\"\n"
+                            << "[[pass]]\ntype = \"radiosity\"\nspecular_transfer = \"exclude\"\n"
+                            << "[[pass]]\ntype = \"distribution\"\n";
+        return path;
+    }
+
+    TempDir dir_{"specular-transfer"};
+};
+
+TEST_F(SpecularTransfer, TheDistributionPreviewSeesTheLightAMirrorCarries) {
+    const std::string room = dir_.file("room.gltf");
+    const double reference = render(room, "--pipeline reference --spp 1024", nullptr);
+    CliResult withRun;
+    const double with = render(room, "--pipeline distribution --spp 16", &withRun);
+    CliResult withoutRun;
+    const double without = render(withoutTransfer(), "--spp 16", &withoutRun);
+    const size_t rounds = withRun.output.find("specular_transfer_rounds: ");
+    ASSERT_NE(rounds, std::string::npos) << withRun.output;
+    std::printf("distribution / reference: with the transfer %.4f (%s), without %.4f\n",
+                with / reference, withRun.output.substr(rounds, 27).c_str(), without / reference);
+    EXPECT_EQ(withRun.output.find("specular_transfer_rounds: 0"), std::string::npos)
+        << withRun.output;
+    EXPECT_EQ(withRun.output.find("L D S D E"), std::string::npos) << withRun.output;
+    EXPECT_NE(withoutRun.output.find("L D S D E"), std::string::npos) << withoutRun.output;
+    // Measured 0.990 with the transfer (4 rounds until it settled; with 2 rounds 0.966), 0.711
+    // without. The bound is the 3 % for the preview's region means; the rest is the
+    // solution's own error and the photons' noise per element.
+    EXPECT_NEAR(with / reference, 1.0, 0.03);
+    EXPECT_LT(without / reference, 0.9);
+}
+
+}  // namespace
+}  // namespace penumbra::test
