@@ -51,6 +51,9 @@ void PathPass::adapt(const PipelineShape& shape) {
         settings_.reuseRadiosity && shape.madeBefore.count(products::kCausticMap);
     // ... unless the solution took the map's photons, which then lights it through the solution.
     settings_.causticsInRadiosity = settings_.causticsAtReuse && shape.causticsInRadiosity;
+    // ... and, with them, the light through specular surfaces, when it carried it.
+    settings_.specularInRadiosity =
+        settings_.causticsInRadiosity && shape.specularTransferInRadiosity;
 }
 
 PassStats PathPass::parameters() const {

@@ -106,10 +106,11 @@ void RadiosityPass::adapt(const PipelineShape& shape) {
     const bool hierarchical = std::holds_alternative<RadiositySettings>(settings_);
     takesCaustics_ = caustics_ == Caustics::Auto && shape.madeBefore.count(products::kCausticMap) &&
                      hierarchical;
-    // A path pass that reuses the solution traces the light its reuse vertex receives through
-    // specular surfaces itself (raytrace/path_tracer.h): a solution holding it too would count
-    // it twice.
-    transfers_ = transfer_ == Transfer::Auto && hierarchical && !shape.typesLater.count("path");
+    // A path pass reusing the solution takes the light through specular surfaces from it only
+    // when it also holds the caustics (raytrace/path_tracer.h, specularInRadiosity); else it
+    // traces that light itself, and a solution holding it too would count it twice.
+    transfers_ = transfer_ == Transfer::Auto && hierarchical &&
+                 (!shape.typesLater.count("path") || takesCaustics_);
 }
 
 std::string RadiosityPass::lightPaths() const {

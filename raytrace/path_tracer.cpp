@@ -40,6 +40,12 @@ std::string pathTracerLightPaths(const PathTracerSettings& settings) {
     // held: the paths are the path tracer's again.
     if (!settings.reuseRadiosity || settings.correctionProbability > 0.0f)
         return settings.excludeCaustics ? "L S* E | L D S* E | L (D|S)* D S* D S* E" : "L(D|S)*E";
+    // A solution that holds the light through specular surfaces as well: every path with two
+    // diffuse vertices or more arrives at the second one through it.
+    if (settings.causticsInRadiosity && settings.specularInRadiosity)
+        return std::string(settings.excludeCaustics ? "L S* E | L D S* E"
+                                                    : "L S* E | L S* D S* E") +
+               " | L S* D (S* D)+ S* E";
     return std::string(settings.excludeCaustics ? "L S* E | L D S* E | "
                                                 : "L S* E | L S* D S* E | ") +
            (settings.causticsInRadiosity ? "L S* D+" : "(L D+ | L S+ D)") + " (S+ D)* S* D S* E";
@@ -64,12 +70,14 @@ struct PathWeights {
     // The correction's parts. `fresh`: made at the last reuse vertex's Lambertian bounce, (1 / q)
     // of the base there; it stands for what the solution held, light arriving from a
     // non-specular surface, so it ends where the next vertex is left through a delta lobe (that
-    // light comes back to the base, as above). `traced`: the correction's parts from earlier
-    // vertices, traced as the path tracer does (no reuse vertex for them: their weight grows by
-    // 1 / q once, not at every reuse vertex, where (rho^2 / q)^k would make the variance diverge
-    // for rho^2 > q, the argument of kMinTerminationProbability). `chain`: fresh, followed
-    // through delta lobes to count the light found at a specular chain's end, when the solution
-    // holds those caustics (causticsInRadiosity) but the base leaves them to the map.
+    // light comes back to the base, as above), unless the solution holds the light through
+    // specular surfaces too (specularInRadiosity: then it goes on through delta lobes). `traced`:
+    // the correction's parts from earlier vertices, traced as the path tracer does (no reuse vertex
+    // for them: their weight grows by 1 / q once, not at every reuse vertex, where (rho^2 / q)^k
+    // would make the variance diverge for rho^2 > q, the argument of kMinTerminationProbability).
+    // `chain`: fresh, followed through delta lobes to count the light found at a specular chain's
+    // end, when the solution holds those caustics (causticsInRadiosity) but the base leaves them to
+    // the map.
     Color fresh{0.0f};
     Color traced{0.0f};
     Color chain{0.0f};
@@ -119,6 +127,11 @@ PathRadiance PathTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHit,
     // (PathRadiance::corrections), so that the image can reconstruct it on its own.
     PathWeights w;
     const float q = settings_.reuseRadiosity ? settings_.correctionProbability : 0.0f;
+    // The solution holds the light arriving through specular surfaces too: the fresh correction
+    // goes on through delta lobes, and only the glossy share of the base goes on past a reuse
+    // vertex.
+    const bool specularHeld =
+        settings_.reuseRadiosity && settings_.causticsInRadiosity && settings_.specularInRadiosity;
     // Product of eta^2 over refractions: the throughput carries the 1/eta^2 radiance scaling of
     // each refraction, which this factor undoes for the roulette decision only (pbrt-v4,
     // 14.1.3).
@@ -173,7 +186,8 @@ PathRadiance PathTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHit,
         const bool causticPath = diffuseVertices == 1 && specularAfterDiffuse;
         // Light reaching a reuse vertex through specular vertices is held by the caustic map or
         // the solution there; the correction's traced part counts it all the same.
-        const bool causticAtReuse = specularAfterDiffuse && lastDiffuseHeldCaustics;
+        const bool causticAtReuse =
+            specularAfterDiffuse && lastDiffuseHeldCaustics && !specularHeld;
         // The weights that count it: at a chain's end after such a reuse vertex, the base's
         // glossy chain, the correction's traced part and chain.
         const Color baseWeight = causticAtReuse ? w.glossyChain : w.unheld;
@@ -261,13 +275,15 @@ PathRadiance PathTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHit,
         const float cosOverPdf = std::abs(glm::dot(bs->wi, bsdf.shadingNormal())) / bs->pdf;
         if (bs->isDelta()) {
             // What the solution held at the reuse vertex before comes back: it holds no light
-            // through specular surfaces. The fresh correction ends (see PathWeights).
+            // through specular surfaces. The fresh correction ends (see PathWeights). When it
+            // does hold that light (specularHeld), the base past a reuse vertex is its glossy
+            // share already (w.all = w.unheld there), and the fresh correction goes on.
             const Color weight = bs->f * cosOverPdf;
             w.unheld = w.all *= weight;
             w.traced *= weight;
             w.chain *= weight;
             w.glossyChain *= weight;
-            w.fresh = Color(0.0f);
+            w.fresh = specularHeld ? w.fresh * weight : Color(0.0f);
         } else {
             w.traced = (w.traced + w.fresh) * bs->f * cosOverPdf;
             w.all = w.unheld * bs->f * cosOverPdf;
@@ -277,11 +293,14 @@ PathRadiance PathTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHit,
                 const Color fGlossy = bsdf.fGlossy(wo, bs->wi);
                 w.unheld = w.unheld * fGlossy * cosOverPdf;
                 w.fresh = corrected * (bs->f - fGlossy) * cosOverPdf;
+                // The solution holds all the rest, through specular surfaces too.
+                if (specularHeld)
+                    w.all = w.unheld;
             } else {
                 w.unheld = w.all;
                 w.fresh = Color(0.0f);
             }
-            w.chain = settings_.causticsInRadiosity ? w.fresh : Color(0.0f);
+            w.chain = settings_.causticsInRadiosity && !specularHeld ? w.fresh : Color(0.0f);
             w.glossyChain = reuseHere && settings_.causticsInRadiosity ? w.unheld : Color(0.0f);
             if (reuseHere && !settings_.specularAtReuse && !(maxComponent(w.unheld) > 0.0f) &&
                 !(maxComponent(w.correction()) > 0.0f))

@@ -24,6 +24,9 @@
 //   deep. When the solution itself took the map's photons (causticsInRadiosity: it holds
 //   L S+ D+ too), its Lambertian share holds those caustics and their further bounces, and the
 //   reuse vertex's rough glossy lobes trace what they reflect of them (the map is not read).
+//   When the solution also carried its own light through specular surfaces
+//   (specularInRadiosity), it holds everything the Lambertian layer receives: no part of that
+//   layer goes on past the reuse vertex, only the glossy lobes do.
 // - correction of the reused solution (correctionProbability q > 0, the `hybrid` pipeline's
 //   default): at each reuse vertex the path also goes on through the Lambertian layer with
 //   probability q, traced as by the path tracer from there on, and adds what it traces less the
@@ -63,6 +66,12 @@ struct PathTracerSettings {
     // With causticsAtReuse: the solution holds the map's photons (L S+ D+), so the map is not
     // read at the second vertex; its glossy lobes trace the caustics they reflect.
     bool causticsInRadiosity = false;
+    // With causticsInRadiosity: the solution also carried its own light through specular
+    // surfaces (the radiosity pass's specular transfer), so it holds all the light that arrives
+    // at a reuse vertex's Lambertian layer, through specular surfaces too (L S* D (S* D)*): that
+    // layer's share goes on nowhere in the base, and the correction traces it through specular
+    // chains as well.
+    bool specularInRadiosity = false;
     // With reuseRadiosity: trace on from a reuse vertex to the specular surfaces it sees. Off
     // only for a scene with no delta lobe, where that ray would find none.
     bool specularAtReuse = true;

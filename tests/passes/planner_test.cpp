@@ -124,19 +124,34 @@ TEST(Planner, HybridLeavesCausticsToTheCausticPassAndNamesIndirectCaustics) {
 // path pass counts indirect caustics through it; a radiosity view after a caustic pass would
 // count the caustics seen directly a second time, and the same with the photons left out is fine.
 TEST(Planner, HybridPresetFeedsTheCausticPhotonsToTheSolution) {
-    // The preview takes the solution as it is: it misses the light that passed a specular
-    // surface between diffuse ones before reaching a reuse vertex, and says so.
+    // The preview takes the solution as it is; the solution holds the caustics and the light
+    // that passed a specular surface between diffuse ones (its specular transfer), so the
+    // preview counts every path (in the notation; what it gets wrong is the solution's error).
     Pipeline preview = makePipelinePreset("hybrid-preview", RenderSettings{});
     const auto& passes = preview.passes();
     ASSERT_EQ(passes.size(), 3u);
     EXPECT_EQ(passes[0]->type(), "caustics");
     EXPECT_EQ(passes[1]->type(), "radiosity");
     EXPECT_TRUE(passes[1]->transportFlags().solutionTakesCaustics);
+    EXPECT_TRUE(passes[1]->transportFlags().solutionTransfersSpecular);
     PathTracerSettings expected = tracer(true, true);
     expected.causticsAtReuse = true;
     expected.causticsInRadiosity = true;
+    expected.specularInRadiosity = true;
     EXPECT_EQ(passes[2]->lightPaths(), pathTracerLightPaths(expected));
-    const PipelinePlan plan = planForScene(preview, SceneContents{true, true, 1, 0});
+    EXPECT_TRUE(planForScene(preview, SceneContents{true, true, 1, 0}).warnings.empty());
+    // Without the transfer it misses the light that passed a specular surface between diffuse
+    // ones before reaching a reuse vertex, and says so.
+    std::vector<std::unique_ptr<Pass>> withoutTransfer;
+    withoutTransfer.push_back(std::make_unique<CausticPass>(CausticSettings{}));
+    withoutTransfer.push_back(std::make_unique<RadiosityPass>(
+        RadiositySettings{}, RadiosityPass::Caustics::Auto, RadiosityPass::Transfer::Exclude));
+    withoutTransfer.push_back(std::make_unique<PathPass>(tracer(true, false)));
+    Pipeline excluded("preview-without-transfer", std::move(withoutTransfer));
+    ASSERT_FALSE(checkPipeline(excluded).has_value());
+    expected.specularInRadiosity = false;
+    EXPECT_EQ(excluded.passes()[2]->lightPaths(), pathTracerLightPaths(expected));
+    const PipelinePlan plan = planForScene(excluded, SceneContents{true, true, 1, 0});
     ASSERT_EQ(plan.warnings.size(), 1u);
     EXPECT_NE(plan.warnings[0].find("L D S D D D E, L D D S D D D E"), std::string::npos)
         << plan.warnings[0];
@@ -197,14 +212,18 @@ TEST(Planner, DistributionTakesIndirectCausticsFromASolutionWithPhotons) {
                     .empty());
 }
 
-// A path pass that reuses the solution traces the light its reuse vertex receives through
-// specular surfaces itself: the solution then carries none (its transfer would count it twice).
-TEST(Planner, NoSpecularTransferInASolutionThePathTracerReuses) {
+// A path pass that reuses the solution takes the light through specular surfaces from it only
+// when the solution also took the caustic photons (the hybrid presets); otherwise the path
+// tracer traces it itself, and the solution carries none (it would be counted twice).
+TEST(Planner, SpecularTransferOnlyWhereThePathTracerTakesIt) {
     for (const char* preset : {"hybrid", "hybrid-preview"}) {
         Pipeline pipeline = makePipelinePreset(preset, RenderSettings{});
         ASSERT_FALSE(checkPipeline(pipeline).has_value());
-        EXPECT_FALSE(pipeline.passes()[1]->transportFlags().solutionTransfersSpecular) << preset;
+        EXPECT_TRUE(pipeline.passes()[1]->transportFlags().solutionTransfersSpecular) << preset;
     }
+    Pipeline noPhotons = hybridWithCaustics(PathPass::Caustics::Auto);  // radiosity first
+    ASSERT_FALSE(checkPipeline(noPhotons).has_value());
+    EXPECT_FALSE(noPhotons.passes()[0]->transportFlags().solutionTransfersSpecular);
     Pipeline distribution = makePipelinePreset("distribution", RenderSettings{});
     ASSERT_FALSE(checkPipeline(distribution).has_value());
     EXPECT_TRUE(distribution.passes()[1]->transportFlags().solutionTransfersSpecular);
