@@ -18,6 +18,7 @@
 #include <tbb/info.h>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cerrno>
 #include <cmath>
@@ -185,7 +186,30 @@ struct RunResult {
     double peakMemoryMiB = 0.0;
     size_t nonFinite = 0;
     MetricValues metrics;  // on luminance
+    // The whole image's mean over the reference's, less 1, per R, G, B channel: the bias a
+    // pipeline's estimate keeps (noise averages out over the pixels).
+    std::array<double, 3> meanBias{};
 };
+
+// Each of R, G, B: the image's mean over the reference's, less 1 (0 where the reference's mean is
+// 0). Non-finite pixels are left out of both.
+std::array<double, 3> meanBias(const Image& image, const Image& reference) {
+    std::array<double, 3> bias{};
+    for (int c = 0; c < 3; ++c) {
+        double test = 0.0, ref = 0.0;
+        for (int y = 0; y < image.height(); ++y) {
+            for (int x = 0; x < image.width(); ++x) {
+                const float t = image.at(x, y, c), r = reference.at(x, y, c);
+                if (std::isfinite(t) && std::isfinite(r)) {
+                    test += t;
+                    ref += r;
+                }
+            }
+        }
+        bias[size_t(c)] = ref > 0.0 ? test / ref - 1.0 : 0.0;
+    }
+    return bias;
+}
 
 // Every pass's stat "rays" and "*_rays" (the radiosity pass's solver and view rays), summed.
 double totalRays(const Pipeline& pipeline) {
@@ -216,6 +240,8 @@ const std::vector<std::string>& quantityNames() {
                                       "nonfinite_pixels"};
         for (const Metric m : kAllMetrics)
             n.emplace_back(metricName(m));
+        for (const char* channel : {"r", "g", "b"})
+            n.push_back(std::string("mean_bias_") + channel);
         return n;
     }();
     return names;
@@ -227,6 +253,8 @@ std::vector<double> quantities(const RunResult& r) {
                              double(r.nonFinite)};
     for (const Metric m : kAllMetrics)
         q.push_back(r.metrics[m]);
+    for (const double bias : r.meanBias)
+        q.push_back(bias);
     return q;
 }
 
@@ -294,6 +322,72 @@ std::string summaryCsv(const std::vector<RunResult>& results,
                 text.append(",").append(formatNumber(mean)).append(",").append(formatNumber(std));
             }
             text += "\n";
+        }
+    }
+    return text;
+}
+
+// The relMSE targets of time_to_error.csv.
+constexpr std::array<double, 2> kErrorTargets = {0.01, 0.001};
+
+// When a pipeline's relMSE reached `target`, from its summary (mean seconds and mean relMSE per
+// budget, in budget order): interpolated between the two budgets it fell past the target between,
+// linearly in log(seconds) against log(relMSE) (an unbiased pipeline's relMSE falls as a power of
+// time, 1 / t when the sample rate is steady). Not extrapolated: below the target at the smallest
+// budget or above it at the largest is said, not guessed.
+struct TimeToError {
+    double seconds = std::numeric_limits<double>::quiet_NaN();
+    std::string how;  // "interpolated", "below at the smallest budget", "not reached"
+};
+
+TimeToError timeToError(const std::vector<std::pair<double, double>>& secondsAndRelMse,
+                        double target) {
+    if (secondsAndRelMse.empty())
+        return {std::numeric_limits<double>::quiet_NaN(), "not reached"};
+    if (secondsAndRelMse.front().second <= target)
+        return {secondsAndRelMse.front().first, "below at the smallest budget"};
+    for (size_t i = 1; i < secondsAndRelMse.size(); ++i) {
+        const auto [t0, e0] = secondsAndRelMse[i - 1];
+        const auto [t1, e1] = secondsAndRelMse[i];
+        if (!(e1 <= target) || !(e0 > 0.0) || !(e1 > 0.0) || !(t0 > 0.0) || !(t1 > 0.0))
+            continue;
+        const double f = (std::log(target) - std::log(e0)) / (std::log(e1) - std::log(e0));
+        return {std::exp(std::log(t0) + f * (std::log(t1) - std::log(t0))), "interpolated"};
+    }
+    return {std::numeric_limits<double>::quiet_NaN(), "not reached"};
+}
+
+// time_to_error.csv: per pipeline and target relMSE, the seconds it took (timeToError()).
+std::string timeToErrorCsv(const std::vector<RunResult>& results,
+                           const std::vector<std::string>& pipelines) {
+    std::string text = "pipeline,relmse_target,seconds,how\n";
+    for (const std::string& pipeline : pipelines) {
+        std::map<double, std::pair<std::vector<double>, std::vector<double>>> byBudget;
+        for (const RunResult& r : results) {
+            if (r.pipeline == pipeline) {
+                byBudget[r.budget.value].first.push_back(r.seconds);
+                byBudget[r.budget.value].second.push_back(r.metrics[Metric::RelMse]);
+            }
+        }
+        const auto mean = [](const std::vector<double>& v) {
+            double sum = 0.0;
+            for (const double x : v)
+                sum += x;
+            return sum / double(v.size());
+        };
+        std::vector<std::pair<double, double>> curve;
+        for (const auto& [budget, runs] : byBudget)
+            curve.emplace_back(mean(runs.first), mean(runs.second));
+        for (const double target : kErrorTargets) {
+            const TimeToError t = timeToError(curve, target);
+            text.append(pipeline)
+                .append(",")
+                .append(formatNumber(target))
+                .append(",")
+                .append(formatNumber(t.seconds))
+                .append(",")
+                .append(t.how)
+                .append("\n");
         }
     }
     return text;
@@ -566,6 +660,7 @@ int bench(BenchOptions& options) {
                 const MetricReport report =
                     compare(rendered.run.layers.at("beauty"), *reference, referenceName);
                 r.metrics = report.rows[size_t(report.rowIndex("luminance"))];
+                r.meanBias = meanBias(rendered.run.layers.at("beauty"), *reference);
                 r.nonFinite = report.testNonFinite;
                 if (options.keepImages) {
                     writeRendered(rendered, setup, r.seed, options.scene.path, cameraDesc.name,
@@ -591,13 +686,14 @@ int bench(BenchOptions& options) {
     }
     if (!results.empty()) {
         writeWhole(directory / "summary.csv", summaryCsv(results, pipelines));
+        writeWhole(directory / "time_to_error.csv", timeToErrorCsv(results, pipelines));
         const std::string title = fs::path(options.scene.path).filename().string() + ", " +
                                   std::to_string(size.x) + "x" + std::to_string(size.y) + ", " +
                                   std::to_string(threads) + " threads";
         writeWhole(directory / "error_vs_time.gp", plotScript(pipelines, title));
         if (drawPlot(directory) && !quiet) {
             std::cerr << "penumbra bench: wrote " << csvPath.string() << ", summary.csv, "
-                      << "error_vs_time.png\n";
+                      << "time_to_error.csv, error_vs_time.png\n";
         }
     }
     return interrupted ? kInterruptedStatus : 0;
