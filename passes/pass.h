@@ -87,6 +87,12 @@ class PassContext {
 
 // What a pass's output holds that other passes' light-path declarations depend on: flags, not
 // data (the data a pass hands on are its products).
+// How a pass that reuses a radiosity solution at path vertices takes the light those vertices
+// receive through specular surfaces: it traces it itself, so the solution must not hold it
+// (kTraced), or it takes it from a solution that holds it with the caustics (the radiosity
+// pass's specular transfer after a caustic pass) and traces it otherwise (kFromSolution).
+enum class SpecularAtReuse { kNotReused, kTraced, kFromSolution };
+
 struct TransportFlags {
     // The pass's image counts the caustic paths L S+ D S* E (a caustic pass): a path pass in auto
     // mode leaves them out.
@@ -98,6 +104,9 @@ struct TransportFlags {
     // RadiosityPass's specular transfer), so it holds L S* D (S* D)* (without the caustic
     // photons, L D (S* D)*).
     bool solutionTransfersSpecular = false;
+    // How the pass takes the light that the vertices where it reuses a radiosity solution
+    // receive through specular surfaces (PathPass): kNotReused when it reuses none there.
+    SpecularAtReuse specularAtReuse = SpecularAtReuse::kNotReused;
 };
 
 // What a pass learns of the rest of its pipeline when the pipeline is planned.
@@ -109,7 +118,11 @@ struct PipelineShape {
     bool causticsInRadiosity = false;   // a solution made before this pass holds L S+ D+
     // A solution made before this pass carries light through specular surfaces (D S+ D).
     bool specularTransferInRadiosity = false;
-    std::multiset<std::string> typesLater;  // the types of the passes after this one
+    // What the passes after this one do with light through specular surfaces at their reuse
+    // vertices (TransportFlags::specularAtReuse): whether one traces it whatever the solution
+    // holds, and whether one takes it from a solution that holds it.
+    bool specularTracedLater = false;
+    bool specularFromSolutionLater = false;
 };
 
 class Pass {

@@ -31,11 +31,16 @@ std::optional<PipelineProblem> checkPipeline(Pipeline& pipeline) {
     }
     for (size_t i = 0; i < passes.size(); ++i) {
         shape.neededLater.clear();
-        shape.typesLater.clear();
+        shape.specularTracedLater = false;
+        shape.specularFromSolutionLater = false;
         for (size_t j = i + 1; j < passes.size(); ++j) {
             for (const std::string& need : passes[j]->needs())
                 shape.neededLater.insert(need);
-            shape.typesLater.insert(passes[j]->type());
+            const SpecularAtReuse specular = passes[j]->transportFlags().specularAtReuse;
+            shape.specularTracedLater =
+                shape.specularTracedLater || specular == SpecularAtReuse::kTraced;
+            shape.specularFromSolutionLater =
+                shape.specularFromSolutionLater || specular == SpecularAtReuse::kFromSolution;
         }
         passes[i]->adapt(shape);
         for (const std::string& product : passes[i]->products())

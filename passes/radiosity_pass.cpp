@@ -106,11 +106,12 @@ void RadiosityPass::adapt(const PipelineShape& shape) {
     const bool hierarchical = std::holds_alternative<RadiositySettings>(settings_);
     takesCaustics_ = caustics_ == Caustics::Auto && shape.madeBefore.count(products::kCausticMap) &&
                      hierarchical;
-    // A path pass reusing the solution takes the light through specular surfaces from it only
-    // when it also holds the caustics (raytrace/path_tracer.h, specularInRadiosity); else it
-    // traces that light itself, and a solution holding it too would count it twice.
-    transfers_ = transfer_ == Transfer::Auto && hierarchical &&
-                 (!shape.typesLater.count("path") || takesCaustics_);
+    // A later pass that reuses the solution at path vertices takes the light they receive
+    // through specular surfaces from it only when the solution also holds the caustics
+    // (raytrace/path_tracer.h, specularInRadiosity); one that traces it whatever the solution
+    // holds (the corrected hybrid) would count it twice.
+    transfers_ = transfer_ == Transfer::Auto && hierarchical && !shape.specularTracedLater &&
+                 (!shape.specularFromSolutionLater || takesCaustics_);
 }
 
 std::string RadiosityPass::lightPaths() const {
@@ -260,7 +261,7 @@ PassStats RadiosityPass::parameters() const {
                                         : " (no caustic map before)";
             if (key == "specular_transfer" && transfer_ == Transfer::Auto)
                 value += transfers_ ? " (if the scene has specular surfaces)"
-                                    : " (off: the path pass traces that light)";
+                                    : " (off: the path pass traces that light itself)";
             if (key == "transfer_photons" && transferPhotons_ == kAutoTransferPhotons && mesh_)
                 value += " (" + std::to_string(transferPhotons(*mesh_)) + ")";
         }

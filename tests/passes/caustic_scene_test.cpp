@@ -125,11 +125,9 @@ TEST_F(CausticScene, ProgressiveCausticsConvergeToTheReference) {
 // The hybrid corrects its solution (docs/light-paths.md, "The hybrid's correction"): what the
 // preview misses (below) is traced, and what is left is the caustic map's own bias. Measured at
 // 64 spp, seeds 5, 1 and 2: every channel within [-0.4 %, -0.1 %] (the caustics pass with the
-// path tracer alone: within 0.3 %); since the solution carries its light through the spheres
-// (its specular transfer, which the correction then traces through specular chains too), seeds
-// 1, 2 and 9 within [-0.4 %, -0.05 %]. The bound, 0.8 % either way, failed the preview before
-// that transfer (-1.1 / -0.9 / -0.6 %) and fails a double count of the light the correction
-// traces.
+// path tracer alone: within 0.3 %). The bound, 0.8 % either way, failed the preview before its
+// solution's specular transfer (-1.1 / -0.9 / -0.6 %) and fails a double count of the light the
+// correction traces.
 TEST_F(CausticScene, HybridConvergesToTheReference) {
     CliResult result;
     const Image image =
