@@ -1,6 +1,8 @@
-// `penumbra bake SCENE -o lit.glb`: solves radiosity on a scene (with its light carried through
-// specular surfaces, passes/specular_transfer.h) and writes the refined mesh with the solution as
-// unlit vertex colours (radiosity/bake.h), for walkthroughs in any glTF viewer.
+// `penumbra bake SCENE -o lit.glb`: solves radiosity on a scene (with the lights' caustic photons
+// and its light carried through specular surfaces, passes/specular_transfer.h) and writes the
+// refined mesh with the solution as unlit vertex colours (radiosity/bake.h), for walkthroughs in
+// any glTF viewer.
+#include "caustics/photon_tracer.h"
 #include "cli/commands.h"
 #include "cli/scene_input.h"
 #include "core/errors.h"
@@ -31,9 +33,14 @@ struct BakeOptions {
     std::optional<float> exposure;  // EV; none = automatic
     int threads = 0;
     RadiositySettings radiosity;
+    bool caustics = true;          // take the lights' caustic photons into the solution
     bool specularTransfer = true;  // carry the solution's light through specular surfaces
-    uint32_t seed = 0;             // of the specular transfer's photons
+    uint32_t seed = 0;             // of the photons
 };
+
+// Photons shot from the lights for the bake's caustics (as the caustic pass's first, fixed
+// count: passes/caustic_pass.h).
+constexpr uint64_t kBakeCausticPhotons = 200000;
 
 void bake(const BakeOptions& options) {
     // Refuse a bad output or setting before loading and solving.
@@ -53,10 +60,21 @@ void bake(const BakeOptions& options) {
     }
     if (!quiet)
         std::cerr << "penumbra: solving radiosity on " << mesh.patchCount() << " patches\n";
-    RadiositySolver solver(*scene, mesh, options.radiosity);
+    const bool specular = analyseScene(*scene).specular;
+    // The lights' light through mirrors and glass (L S+ D), binned on the elements as the
+    // radiosity pass takes a caustic pass's photons (radiosity/deposited_flux.h).
+    std::vector<FluxDeposit> caustics;
+    if (options.caustics && specular) {
+        PhotonTracerSettings photons;
+        photons.photons = kBakeCausticPhotons;
+        photons.seed = options.seed;
+        Progress progress("caustic photons", kBakeCausticPhotons, quiet);
+        caustics = asDeposits(tracePhotons(*scene, photons, &progress).photons);
+    }
+    RadiositySolver solver(*scene, mesh, options.radiosity, caustics);
     ConsoleSolveProgress solveProgress("radiosity", quiet);
     solver.solve(&solveProgress);
-    if (options.specularTransfer && analyseScene(*scene).specular) {
+    if (options.specularTransfer && specular) {
         transferThroughSpecular(*scene, mesh, solver,
                                 {automaticTransferPhotons(mesh), options.seed}, quiet,
                                 solveProgress);
@@ -118,11 +136,16 @@ Command addBakeCommand(CLI::App& app) {
     command->add_option("--min-element-area", r.minElementArea,
                         "Smallest element in m² (default 0: total surface area / 16384)");
     command
+        ->add_flag("!--no-caustics", options->caustics,
+                   "Leave out the light that reaches surfaces from the lights through mirrors "
+                   "and glass (caustic photons, binned on the elements)")
+        ->capture_default_str();
+    command
         ->add_flag("!--no-specular-transfer", options->specularTransfer,
                    "Leave out the light the solution's surfaces send through mirrors and glass "
                    "onto other surfaces (photons shot from the solution, then solved again)")
         ->capture_default_str();
-    command->add_option("--seed", options->seed, "Seed of the specular transfer's photons")
+    command->add_option("--seed", options->seed, "Seed of the caustic and transfer photons")
         ->capture_default_str();
     return [options] { bake(*options); };
 }
