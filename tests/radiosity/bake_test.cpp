@@ -536,6 +536,18 @@ TEST(GltfWriter, RefusesBadPathsAndLeavesNothing) {
 const std::string kCornellBox =
     std::string(PENUMBRA_SOURCE_DIR) + "/scenes/cornell-box/cornell-box.gltf";
 
+// Bakes the room `build` makes (written to `dir`) with `options`; the command's output.
+std::string bakeRoom(const TempDir& dir, void (*build)(GltfBuilder&), const std::string& options) {
+    GltfBuilder room;
+    build(room);
+    room.write(dir.file("room.gltf"));
+    const CliResult result =
+        runPenumbra("bake " + dir.file("room.gltf") + " -o " + dir.file("lit.glb") +
+                    " --epsilon 0.05 --threads 2 " + options);
+    EXPECT_EQ(result.status, 0) << result.output;
+    return result.output;
+}
+
 // The radiosity solver's statistic `key` as the bake prints it ("  radiosity KEY: VALUE").
 double statistic(const std::string& output, const std::string& key) {
     const size_t at = output.find("radiosity " + key + ": ");
@@ -578,15 +590,8 @@ TEST(BakeCommand, CornellBoxGivesALoadableModel) {
 // measures it against the path tracer), and the solver's statistics say how much.
 TEST(BakeCommand, CarriesTheLightThroughTheMirrorUnlessToldNot) {
     TempDir dir("bake-cli-transfer");
-    GltfBuilder room;
-    addMirrorCeilingRoom(room);
-    room.write(dir.file("room.gltf"));
     const auto bake = [&](const std::string& options) {
-        const CliResult result =
-            runPenumbra("bake " + dir.file("room.gltf") + " -o " + dir.file("lit.glb") +
-                        " --epsilon 0.05 --threads 2 " + options);
-        EXPECT_EQ(result.status, 0) << result.output;
-        return result.output;
+        return bakeRoom(dir, addMirrorCeilingRoom, options);
     };
     const std::string with = bake("");
     const std::string without = bake("--no-specular-transfer");
@@ -605,15 +610,8 @@ TEST(BakeCommand, CarriesTheLightThroughTheMirrorUnlessToldNot) {
 // deposited flux) and the reflected flux grows with it.
 TEST(BakeCommand, TakesTheCausticPhotonsUnlessToldNot) {
     TempDir dir("bake-cli-caustics");
-    GltfBuilder room;
-    addMirrorRoom(room);
-    room.write(dir.file("room.gltf"));
     const auto bake = [&](const std::string& options) {
-        const CliResult result =
-            runPenumbra("bake " + dir.file("room.gltf") + " -o " + dir.file("lit.glb") +
-                        " --epsilon 0.05 --threads 2 " + options);
-        EXPECT_EQ(result.status, 0) << result.output;
-        return result.output;
+        return bakeRoom(dir, addMirrorRoom, options);
     };
     const std::string with = bake("");
     const std::string without = bake("--no-caustics");
