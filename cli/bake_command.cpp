@@ -10,6 +10,7 @@
 #include "core/progress.h"
 #include "core/scene_contents.h"
 #include "core/stats.h"
+#include "passes/caustic_pass.h"
 #include "passes/specular_transfer.h"
 #include "radiosity/bake.h"
 #include "radiosity/radiosity_mesh.h"
@@ -38,10 +39,6 @@ struct BakeOptions {
     uint32_t seed = 0;             // of the photons
 };
 
-// Photons shot from the lights for the bake's caustics (as the caustic pass's first, fixed
-// count: passes/caustic_pass.h).
-constexpr uint64_t kBakeCausticPhotons = 200000;
-
 void bake(const BakeOptions& options) {
     // Refuse a bad output or setting before loading and solving.
     checkGltfOutputPath(options.output);
@@ -66,9 +63,11 @@ void bake(const BakeOptions& options) {
     std::vector<FluxDeposit> caustics;
     if (options.caustics && specular) {
         PhotonTracerSettings photons;
-        photons.photons = kBakeCausticPhotons;
+        // The caustic pass's base count: its automatic count grows with the image's samples,
+        // which a bake has none of.
+        photons.photons = CausticPass::kBasePhotons;
         photons.seed = options.seed;
-        Progress progress("caustic photons", kBakeCausticPhotons, quiet);
+        Progress progress("caustic photons", CausticPass::kBasePhotons, quiet);
         caustics = asDeposits(tracePhotons(*scene, photons, &progress).photons);
     }
     RadiositySolver solver(*scene, mesh, options.radiosity, caustics);

@@ -290,6 +290,25 @@ void writeWhole(const fs::path& path, const std::string& text) {
     fs::rename(temporary, path);
 }
 
+// A pipeline's runs grouped by budget, in budget order.
+std::map<double, std::vector<const RunResult*>> runsByBudget(const std::vector<RunResult>& results,
+                                                             const std::string& pipeline) {
+    std::map<double, std::vector<const RunResult*>> byBudget;
+    for (const RunResult& r : results) {
+        if (r.pipeline == pipeline)
+            byBudget[r.budget.value].push_back(&r);
+    }
+    return byBudget;
+}
+
+// The mean of figure q of quantities() over `runs`.
+double meanQuantity(const std::vector<const RunResult*>& runs, size_t q) {
+    double sum = 0.0;
+    for (const RunResult* r : runs)
+        sum += quantities(*r)[q];
+    return sum / double(runs.size());
+}
+
 // summary.csv: per pipeline and budget (sorted by budget, for the plot's lines), the number of
 // runs and the mean and sample standard deviation (n - 1; "nan" for one run) of every figure.
 std::string summaryCsv(const std::vector<RunResult>& results,
@@ -299,20 +318,12 @@ std::string summaryCsv(const std::vector<RunResult>& results,
         text += "," + name + "_mean," + name + "_std";
     text += "\n";
     for (const std::string& pipeline : pipelines) {
-        std::map<double, std::vector<const RunResult*>> byBudget;
-        for (const RunResult& r : results) {
-            if (r.pipeline == pipeline)
-                byBudget[r.budget.value].push_back(&r);
-        }
-        for (const auto& [budget, runs] : byBudget) {
+        for (const auto& [budget, runs] : runsByBudget(results, pipeline)) {
             const size_t n = runs.size();
             text += pipeline + "," + formatNumber(budget) + "," + runs.front()->budget.unit() +
                     "," + std::to_string(n);
             for (size_t q = 0; q < quantityNames().size(); ++q) {
-                double sum = 0.0;
-                for (const RunResult* r : runs)
-                    sum += quantities(*r)[q];
-                const double mean = sum / double(n);
+                const double mean = meanQuantity(runs, q);
                 double squares = 0.0;
                 for (const RunResult* r : runs)
                     squares += (quantities(*r)[q] - mean) * (quantities(*r)[q] - mean);
@@ -362,22 +373,14 @@ std::string timeToErrorCsv(const std::vector<RunResult>& results,
                            const std::vector<std::string>& pipelines) {
     std::string text = "pipeline,relmse_target,seconds,how\n";
     for (const std::string& pipeline : pipelines) {
-        std::map<double, std::pair<std::vector<double>, std::vector<double>>> byBudget;
-        for (const RunResult& r : results) {
-            if (r.pipeline == pipeline) {
-                byBudget[r.budget.value].first.push_back(r.seconds);
-                byBudget[r.budget.value].second.push_back(r.metrics[Metric::RelMse]);
-            }
-        }
-        const auto mean = [](const std::vector<double>& v) {
-            double sum = 0.0;
-            for (const double x : v)
-                sum += x;
-            return sum / double(v.size());
+        const auto index = [](const std::string& name) {
+            const auto& names = quantityNames();
+            return size_t(std::find(names.begin(), names.end(), name) - names.begin());
         };
         std::vector<std::pair<double, double>> curve;
-        for (const auto& [budget, runs] : byBudget)
-            curve.emplace_back(mean(runs.first), mean(runs.second));
+        for (const auto& [budget, runs] : runsByBudget(results, pipeline))
+            curve.emplace_back(meanQuantity(runs, index("seconds")),
+                               meanQuantity(runs, index("relmse")));
         for (const double target : kErrorTargets) {
             const TimeToError t = timeToError(curve, target);
             text.append(pipeline)

@@ -129,7 +129,7 @@ class RadiositySolver : public RadiositySolution {
 
     // Extended transfer through specular surfaces (paths D S+ D, which the links do not carry):
     // `deposits` is the flux that the solution's reflected light (reflectedRadiance, shot as
-    // photons by the caller: passes/radiosity_pass.cpp) sent through mirrors and glass onto the
+    // photons by the caller: passes/specular_transfer.h) sent through mirrors and glass onto the
     // meshed surfaces. It replaces that of any earlier call as light given on the element sides
     // (D_i), part of the indirect light, not of the sources' first reflection; the gather sweeps
     // then converge again with it, and the direct part and vertex values are made anew. Called
