@@ -107,6 +107,10 @@ struct TransportFlags {
     // How the pass takes the light that the vertices where it reuses a radiosity solution
     // receive through specular surfaces (PathPass): kNotReused when it reuses none there.
     SpecularAtReuse specularAtReuse = SpecularAtReuse::kNotReused;
+    // The pass reuses a radiosity solution but does as well without one, only slower (a path
+    // pass that corrects the solution: its estimate is the path tracer's in expectation either
+    // way), so a solve short of time may be abandoned for it.
+    bool solutionOptional = false;
 };
 
 // What a pass learns of the rest of its pipeline when the pipeline is planned.
@@ -123,6 +127,9 @@ struct PipelineShape {
     // holds, and whether one takes it from a solution that holds it.
     bool specularTracedLater = false;
     bool specularFromSolutionLater = false;
+    // A pass after this one reuses the radiosity solution and cannot do without it
+    // (TransportFlags::solutionOptional).
+    bool solutionRequiredLater = false;
 };
 
 class Pass {

@@ -63,7 +63,7 @@ PassStats PathPass::parameters() const {
 }
 
 float PathPass::correctionSigma() const {
-    const bool corrects = settings_.reuseRadiosity && settings_.correctionProbability > 0.0f;
+    const bool corrects = reuses_ && settings_.correctionProbability > 0.0f;
     return corrects ? correctionSigma_ : 0.0f;
 }
 
@@ -71,6 +71,14 @@ RadianceEstimator PathPass::makeEstimator(PassContext& context) {
     radiosity_ = context.product<RadiositySolution>(products::kRadiositySolution);
     causticMap_ = context.product<CausticMap>(products::kCausticMap);
     PathTracerSettings settings = settings_;
+    // No solution: the radiosity pass was skipped (no diffuse surface, so there is nothing to
+    // reuse) or, for a correcting pass, abandoned at the time limit; every path is traced on.
+    reuses_ = settings.reuseRadiosity && radiosity_;
+    if (!reuses_) {
+        const bool excludeCaustics = settings.excludeCaustics;
+        settings = PathTracerSettings{settings.maxDepth};
+        settings.excludeCaustics = excludeCaustics;
+    }
     // The ray from a reuse vertex to the specular surfaces it sees would find none (the
     // planner's analysis, which also skips the caustic pass then).
     settings.specularAtReuse = context.contents.specular;

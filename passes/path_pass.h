@@ -42,12 +42,15 @@ class PathPass : public SamplingPass {
     // vertices itself: unbiased either way, and on the modern hall the solution's specular
     // transfer (1.6 s of set-up) bought nothing at 64 s and cost a third of the path tracer's
     // time at 16 s. The preview takes it from a solution that holds it with the caustics.
+    // Without the solution (a solve abandoned at the time limit) a correcting pass traces every
+    // path on, as the path tracer does.
     TransportFlags transportFlags() const override {
         if (!settings_.reuseRadiosity)
             return {};
-        return {.specularAtReuse = settings_.correctionProbability > 0.0f
-                                       ? SpecularAtReuse::kTraced
-                                       : SpecularAtReuse::kFromSolution};
+        const bool corrects = settings_.correctionProbability > 0.0f;
+        return {
+            .specularAtReuse = corrects ? SpecularAtReuse::kTraced : SpecularAtReuse::kFromSolution,
+            .solutionOptional = corrects};
     }
     std::set<std::string> needs() const override;
     void adapt(const PipelineShape& shape) override;
@@ -63,6 +66,7 @@ class PathPass : public SamplingPass {
     Caustics caustics_;
     float correctionSigma_;
     std::shared_ptr<const RadiositySolution> radiosity_;
+    bool reuses_ = false;  // reuses the solution: it asks to, and there is one (makeEstimator)
     std::shared_ptr<const CausticMap> causticMap_;
     std::optional<SolutionForTracers> reusedSolution_;  // radiosity_ as the tracer reads it
     std::optional<CausticsForTracers> reusedCaustics_;

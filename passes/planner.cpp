@@ -33,10 +33,16 @@ std::optional<PipelineProblem> checkPipeline(Pipeline& pipeline) {
         shape.neededLater.clear();
         shape.specularTracedLater = false;
         shape.specularFromSolutionLater = false;
+        shape.solutionRequiredLater = false;
         for (size_t j = i + 1; j < passes.size(); ++j) {
-            for (const std::string& need : passes[j]->needs())
+            const TransportFlags later = passes[j]->transportFlags();
+            for (const std::string& need : passes[j]->needs()) {
                 shape.neededLater.insert(need);
-            const SpecularAtReuse specular = passes[j]->transportFlags().specularAtReuse;
+                shape.solutionRequiredLater =
+                    shape.solutionRequiredLater ||
+                    (need == products::kRadiositySolution && !later.solutionOptional);
+            }
+            const SpecularAtReuse specular = later.specularAtReuse;
             shape.specularTracedLater =
                 shape.specularTracedLater || specular == SpecularAtReuse::kTraced;
             shape.specularFromSolutionLater =

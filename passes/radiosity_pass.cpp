@@ -103,6 +103,7 @@ std::unique_ptr<Pass> RadiosityPass::fromScript(const ScriptTable& table, const 
 
 void RadiosityPass::adapt(const PipelineShape& shape) {
     view_ = !shape.neededLater.count(products::kRadiositySolution);
+    optional_ = !view_ && !shape.solutionRequiredLater;
     const bool hierarchical = std::holds_alternative<RadiositySettings>(settings_);
     takesCaustics_ = caustics_ == Caustics::Auto && shape.madeBefore.count(products::kCausticMap) &&
                      hierarchical;
@@ -136,16 +137,22 @@ std::string RadiosityPass::skipReason(const SceneContents& contents) const {
 
 namespace {
 
-// With a time limit, the solve stops refining once it has used half of the time left when it
-// began, so that the image gets the other half: a coarser solution costs the hybrid's corrected
-// path tracer noise, not bias, and the radiosity view a coarser image, never one sample after the
-// whole budget.
-std::function<bool()> refinementDeadline(const PassContext& context) {
+// With a time limit, the solve's time is up once it has used a share of the time left when it
+// began, so that the image gets the rest: the refinement stops there and the links still being
+// decided are made as they stand (a coarser solution: a coarser radiosity view or distribution
+// image, never one sample after the whole budget). When only a pass that corrects the solution
+// reuses it, the solve is abandoned instead if its links would not be made by then, and that pass
+// traces without it (the corrected hybrid becomes the path tracer), and its share is larger: on the
+// modern hall the corrected hybrid's error per second of path tracing is a third of the path
+// tracer's (docs/benchmarks.md), so a solve that ends before two thirds of the time still pays;
+// a solution nothing can replace gets half.
+LinkRefiner::Deadline solveDeadline(const PassContext& context, bool optional) {
     if (!context.deadline)
-        return nullptr;
+        return std::nullopt;
     const auto now = std::chrono::steady_clock::now();
-    const auto stopAt = now + (*context.deadline - now) / 2;
-    return [stopAt] { return std::chrono::steady_clock::now() >= stopAt; };
+    const double share = optional ? 2.0 / 3.0 : 0.5;
+    return now + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                     (*context.deadline - now) * share);
 }
 
 }  // namespace
@@ -167,12 +174,18 @@ void RadiosityPass::prepare(PassContext& context) {
                 : std::vector<FluxDeposit>{};
         auto solver =
             std::make_unique<RadiositySolver>(context.scene, *mesh_, *hierarchical, deposits);
-        solver->solve(&progress, refinementDeadline(context));
-        if (transfers_ && context.contents.specular)
+        const LinkRefiner::Deadline deadline = solveDeadline(context, optional_);
+        solver->solve(&progress, deadline,
+                      optional_ ? LinkRefiner::OnTimeUp::Abandon : LinkRefiner::OnTimeUp::Coarsen);
+        const bool abandoned = solver->abandoned();
+        const bool late = deadline && std::chrono::steady_clock::now() >= *deadline;
+        if (transfers_ && context.contents.specular && !abandoned && !late)
             transferThroughSpecular(context.scene, *mesh_, *solver,
                                     {transferPhotons(*mesh_), context.settings.seed},
                                     context.settings.quiet, progress);
         solution_ = std::move(solver);
+        if (abandoned)
+            return;  // no product: the correcting pass after traces every path on
     } else {
         const auto& progressive = std::get<ProgressiveSettings>(settings_);
         mesh(progressive.meshing(context.scene));

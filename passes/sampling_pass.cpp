@@ -26,8 +26,10 @@ void publishRenderedImage(PassContext& context, const ImageRenderer& renderer,
 }  // namespace
 
 void SamplingPass::prepare(PassContext& context) {
+    // The estimator first: it may find that there is nothing to correct (correctionSigma()).
+    RadianceEstimator estimator = makeEstimator(context);
     renderer_ = std::make_unique<ImageRenderer>(context.camera, context.settings,
-                                                makeEstimator(context), correctionSigma());
+                                                std::move(estimator), correctionSigma());
     start_ = std::chrono::steady_clock::now();
     // With a time limit the bar measures the time left (in milliseconds), else samples.
     timed_ = context.deadline && usesTimeLimit();

@@ -22,6 +22,10 @@ namespace {
 // radiance in each channel: a receiver darker than this is refined as if it were this bright.
 constexpr float kRelativeFloor = 0.1f;
 
+// Pairs of a level the oracle examines between two looks at the time limit (about 0.1 s of
+// kernel samples on the modern hall's 2 cores).
+constexpr size_t kRefineSlice = size_t{1} << 16;
+
 }  // namespace
 
 LinkRefiner::LinkRefiner(RadiosityMesh& mesh, const RadiositySettings& settings,
@@ -45,7 +49,7 @@ LinkRefiner::LinkRefiner(RadiosityMesh& mesh, const RadiositySettings& settings,
 // in the sum, the area once), so that epsilon is a fraction of a typical radiance whatever the
 // scene's units and brightness. With `relativeFloor` also relativeFloor_, the receiver-relative
 // criterion's floor (exceedsThreshold): kRelativeFloor times the same mean per channel.
-void LinkRefiner::updateThresholds(bool relativeFloor) {
+void LinkRefiner::updateThresholds(bool relativeFloor, float epsilonScale) {
     double largest = 0.0, area = 0.0;
     Color perChannel(0.0f);
     for (size_t p = 0; p < mesh_.patchCount(); ++p) {
@@ -58,7 +62,7 @@ void LinkRefiner::updateThresholds(bool relativeFloor) {
     }
     if (!(area > 0.0))
         return;
-    threshold_ = settings_.epsilon * largest / area;
+    threshold_ = epsilonScale * settings_.epsilon * largest / area;
     if (relativeFloor)
         relativeFloor_ = kRelativeFloor * perChannel / static_cast<float>(area);
 }
@@ -73,6 +77,8 @@ void LinkRefiner::updateThresholds(bool relativeFloor) {
 // %). The error in a channel is the link's error in the source's largest channel scaled by the
 // source's colour and by the receiver's rho: what the receiver reflects of it.
 bool LinkRefiner::exceedsThreshold(int receiver, int source, const LinkErrors& errors) const {
+    if (coarse_)
+        return false;
     const double error = std::max(errors.receiver, errors.source);
     if (error > threshold_)
         return true;
@@ -118,6 +124,8 @@ void LinkRefiner::finishSplits() {
 void LinkRefiner::refineAndLink(std::vector<RefinePair> pairs, const std::string& step) {
     std::vector<PendingLink> pending;
     refine(std::move(pairs), pending);
+    if (abandoned_)
+        return;
     finishSplits();
     evaluateLinks(pending, step);
 }
@@ -150,45 +158,70 @@ LinkErrors LinkRefiner::linkErrors(int source, float spread, float Fmax) const {
 // sequential. The links made are the same.
 void LinkRefiner::refine(std::vector<RefinePair> batch, std::vector<PendingLink>& pending) {
     while (!batch.empty()) {
-        if (progress_)
-            progress_->advance(batch.size());  // the oracle's stage counts the pairs it examines
-        std::vector<KernelSamples> samples(batch.size());
-        std::vector<char> interacts(batch.size(), 0);
-        tbb::parallel_for(size_t(0), batch.size(), [&](size_t i) {
-            const RefinePair& p = batch[i];
-            if (isCluster(p.receiver) || isCluster(p.source) ||
-                !transfer_.mayInteract(p.receiver, p.source))
-                return;
-            interacts[i] = 1;
-            samples[i] = transfer_.kernelSamples(p.receiver, p.source);
-        });
         std::vector<RefinePair> next;
-        for (size_t i = 0; i < batch.size(); ++i) {
-            const RefinePair& p = batch[i];
-            if (isCluster(p.receiver) || isCluster(p.source)) {
-                refineClusterPair(p.receiver, p.source, next, pending);
-                continue;
+        // In slices, so that a time limit is seen within a level too (setTimeLimit).
+        for (size_t begin = 0; begin < batch.size(); begin += kRefineSlice) {
+            if (timeIsUp() && linking_ && onTimeUp_ == OnTimeUp::Abandon) {
+                abandoned_ = true;
+                return;
             }
-            if (!interacts[i])
-                continue;
-            const KernelSamples& k = samples[i];
-            const int er = element(p.receiver), es = element(p.source);
-            const bool canR = subdivisible(er), canS = subdivisible(es);
-            const LinkErrors errors =
-                linkErrors(p.source, p.spread >= 0.0f ? p.spread : k.spread(1.0f), k.max());
-            if (!exceedsThreshold(p.receiver, p.source, errors) || !(canR || canS)) {
-                pending.push_back({p.receiver, p.source, k});
-                continue;
-            }
-            const bool splitSource = canS && (!canR || errors.source > errors.receiver);
-            const int first = children(splitSource ? es : er);
-            for (int c = first; c < first + RadiosityMesh::kChildren; ++c) {
-                next.push_back({splitSource ? p.receiver : node(c, front(p.receiver)),
-                                splitSource ? node(c, front(p.source)) : p.source});
-            }
+            const size_t end = std::min(batch.size(), begin + kRefineSlice);
+            refineSlice(std::span(batch).subspan(begin, end - begin), next, pending);
         }
         batch = std::move(next);
     }
+}
+
+// One level's pairs [begin, end) of refine(): their kernel samples in parallel, then the
+// decisions in order.
+void LinkRefiner::refineSlice(std::span<const RefinePair> batch, std::vector<RefinePair>& next,
+                              std::vector<PendingLink>& pending) {
+    if (progress_)
+        progress_->advance(batch.size());  // the oracle's stage counts the pairs it examines
+    std::vector<KernelSamples> samples(batch.size());
+    std::vector<char> interacts(batch.size(), 0);
+    tbb::parallel_for(size_t(0), batch.size(), [&](size_t i) {
+        const RefinePair& p = batch[i];
+        if (isCluster(p.receiver) || isCluster(p.source) ||
+            !transfer_.mayInteract(p.receiver, p.source))
+            return;
+        interacts[i] = 1;
+        samples[i] = transfer_.kernelSamples(p.receiver, p.source);
+    });
+    for (size_t i = 0; i < batch.size(); ++i) {
+        const RefinePair& p = batch[i];
+        if (isCluster(p.receiver) || isCluster(p.source)) {
+            refineClusterPair(p.receiver, p.source, next, pending);
+            continue;
+        }
+        if (!interacts[i])
+            continue;
+        const KernelSamples& k = samples[i];
+        const int er = element(p.receiver), es = element(p.source);
+        const bool canR = subdivisible(er), canS = subdivisible(es);
+        const LinkErrors errors =
+            linkErrors(p.source, p.spread >= 0.0f ? p.spread : k.spread(1.0f), k.max());
+        if (!exceedsThreshold(p.receiver, p.source, errors) || !(canR || canS)) {
+            pending.push_back({p.receiver, p.source, k});
+            continue;
+        }
+        const bool splitSource = canS && (!canR || errors.source > errors.receiver);
+        const int first = children(splitSource ? es : er);
+        for (int c = first; c < first + RadiosityMesh::kChildren; ++c) {
+            next.push_back({splitSource ? p.receiver : node(c, front(p.receiver)),
+                            splitSource ? node(c, front(p.source)) : p.source});
+        }
+    }
+}
+
+void LinkRefiner::setTimeLimit(Deadline deadline, OnTimeUp onTimeUp) {
+    deadline_ = deadline;
+    onTimeUp_ = onTimeUp;
+}
+
+bool LinkRefiner::timeIsUp() {
+    coarse_ = coarse_ || (deadline_ && std::chrono::steady_clock::now() >= *deadline_);
+    return coarse_;
 }
 
 // Whether a link's whole transfer, F_max times the larger of its source's radiance and the
@@ -207,8 +240,10 @@ bool LinkRefiner::smallTransfer(int source, float Fmax) const {
 // them is sequential because it splits elements). Links that carry nothing (F = 0, or fully
 // occluded) are dropped: no oracle would refine them. A partly occluded link gets no slope (the
 // visibility's variation is unknown) and a spread of its whole F_max, as a shadow boundary may
-// cross the receiver anywhere. A link with a cluster at either end carries the isotropic kernel
-// (clusterKernel) times the visible fraction, with no slope and its error bound as both spreads.
+// cross the receiver anywhere. Once the time is up (coarse_), every link's visibility is
+// estimated adaptively (LinkTransfer::visibility), a rougher but quicker solution. A link with a
+// cluster at either end carries the isotropic kernel (clusterKernel) times the visible fraction,
+// with no slope and its error bound as both spreads.
 //
 // A pair listed in both directions (as the initial linking makes many) is evaluated once: the
 // reverse link takes F_ji = A_i F_ij / A_j and the same visible fraction, which halves its work and
@@ -260,67 +295,80 @@ void LinkRefiner::evaluateLinks(const std::vector<PendingLink>& pending, const s
         progress_->beginStage(step + ": form factors and visibility", n);
     }
     tbb::combinable<uint64_t> rays([] { return uint64_t(0); });
-    parallelForWithProgress(n, progress_, [&](size_t i) {
-        if (!primary[i])
-            return;
-        const PendingLink& p = pending[i];
-        const int j = reverse[i];
-        if (isClusterLink(i)) {
-            const ClusterKernel k = transfer_.clusterKernel(p.receiver, p.source);
-            F[i] = k.K;
-            Fmax[i] = k.Kmax;
-            spread[i] = k.error;
-            if (j >= 0) {
-                const ClusterKernel kr = transfer_.clusterKernel(p.source, p.receiver);
-                Fmax[static_cast<size_t>(j)] = kr.Kmax;
-                spread[static_cast<size_t>(j)] = kr.error;
+    // Once the deadline has passed, abandoned (no link is made) or, between chunks, made
+    // coarser: the links after take their visibility adaptively.
+    const bool mayAbandon = linking_ && onTimeUp_ == OnTimeUp::Abandon;
+    const auto late = [this, mayAbandon](size_t) { return timeIsUp() && mayAbandon; };
+    const bool complete = parallelForWithProgress(
+        n, progress_,
+        [&](size_t i) {
+            if (!primary[i])
+                return;
+            const PendingLink& p = pending[i];
+            const int j = reverse[i];
+            if (isClusterLink(i)) {
+                const ClusterKernel k = transfer_.clusterKernel(p.receiver, p.source);
+                F[i] = k.K;
+                Fmax[i] = k.Kmax;
+                spread[i] = k.error;
+                if (j >= 0) {
+                    const ClusterKernel kr = transfer_.clusterKernel(p.source, p.receiver);
+                    Fmax[static_cast<size_t>(j)] = kr.Kmax;
+                    spread[static_cast<size_t>(j)] = kr.error;
+                }
+            } else if (p.samples.max() > 0.0f) {
+                // Visibility first, with the kernel samples' largest value for F_max: a hidden pair
+                // is dropped without its form factor (one pair in nine in the Cornell box).
+                bool adaptive = coarse_ || smallTransfer(p.source, p.samples.max());
+                if (j >= 0)
+                    adaptive =
+                        adaptive &&
+                        smallTransfer(p.receiver, pending[static_cast<size_t>(j)].samples.max());
+                V[i] =
+                    transfer_.visibility(p.receiver, p.source, rays.local(), adaptive, &childV[i]);
+                if (j >= 0) {
+                    V[static_cast<size_t>(j)] = V[i];
+                    childV[static_cast<size_t>(j)] = childV[i].reversed();
+                }
+                if (maxComponent(V[i]) <= 0.0f)
+                    return;
+                F[i] = transfer_.exposedFormFactor(
+                    p.receiver, p.source, transfer_.formFactor(p.receiver, p.source, &p.samples));
+                Fmax[i] = glm::max(p.samples.max(), F[i]);
+                if (j >= 0) {
+                    const size_t r = static_cast<size_t>(j);
+                    F[r] = F[i] * static_cast<float>(transfer_.nodeArea(p.receiver) /
+                                                     transfer_.nodeArea(p.source));
+                    Fmax[r] = glm::max(pending[r].samples.max(), F[r]);
+                }
+                return;
+            } else {
+                F[i] = transfer_.exposedFormFactor(
+                    p.receiver, p.source, transfer_.formFactor(p.receiver, p.source, &p.samples));
+                Fmax[i] = glm::max(p.samples.max(), F[i]);
             }
-        } else if (p.samples.max() > 0.0f) {
-            // Visibility first, with the kernel samples' largest value for F_max: a hidden pair
-            // is dropped without its form factor (one pair in nine in the Cornell box).
-            bool adaptive = smallTransfer(p.source, p.samples.max());
-            if (j >= 0)
-                adaptive = adaptive &&
-                           smallTransfer(p.receiver, pending[static_cast<size_t>(j)].samples.max());
+            if (!(F[i] > 0.0f))
+                return;
+            bool adaptive = coarse_ || smallTransfer(p.source, Fmax[i]);
+            if (j >= 0) {
+                const size_t r = static_cast<size_t>(j);
+                F[r] = F[i] * static_cast<float>(transfer_.nodeArea(p.receiver) /
+                                                 transfer_.nodeArea(p.source));
+                if (!isClusterLink(i))
+                    Fmax[r] = glm::max(pending[r].samples.max(), F[r]);
+                adaptive = adaptive && smallTransfer(p.receiver, Fmax[r]);
+            }
             V[i] = transfer_.visibility(p.receiver, p.source, rays.local(), adaptive, &childV[i]);
             if (j >= 0) {
                 V[static_cast<size_t>(j)] = V[i];
                 childV[static_cast<size_t>(j)] = childV[i].reversed();
             }
-            if (maxComponent(V[i]) <= 0.0f)
-                return;
-            F[i] = transfer_.exposedFormFactor(
-                p.receiver, p.source, transfer_.formFactor(p.receiver, p.source, &p.samples));
-            Fmax[i] = glm::max(p.samples.max(), F[i]);
-            if (j >= 0) {
-                const size_t r = static_cast<size_t>(j);
-                F[r] = F[i] * static_cast<float>(transfer_.nodeArea(p.receiver) /
-                                                 transfer_.nodeArea(p.source));
-                Fmax[r] = glm::max(pending[r].samples.max(), F[r]);
-            }
-            return;
-        } else {
-            F[i] = transfer_.exposedFormFactor(
-                p.receiver, p.source, transfer_.formFactor(p.receiver, p.source, &p.samples));
-            Fmax[i] = glm::max(p.samples.max(), F[i]);
-        }
-        if (!(F[i] > 0.0f))
-            return;
-        bool adaptive = smallTransfer(p.source, Fmax[i]);
-        if (j >= 0) {
-            const size_t r = static_cast<size_t>(j);
-            F[r] = F[i] * static_cast<float>(transfer_.nodeArea(p.receiver) /
-                                             transfer_.nodeArea(p.source));
-            if (!isClusterLink(i))
-                Fmax[r] = glm::max(pending[r].samples.max(), F[r]);
-            adaptive = adaptive && smallTransfer(p.receiver, Fmax[r]);
-        }
-        V[i] = transfer_.visibility(p.receiver, p.source, rays.local(), adaptive, &childV[i]);
-        if (j >= 0) {
-            V[static_cast<size_t>(j)] = V[i];
-            childV[static_cast<size_t>(j)] = childV[i].reversed();
-        }
-    });
+        },
+        deadline_ ? std::function<bool(size_t)>(late) : nullptr);
+    if (!complete) {
+        abandoned_ = true;
+        return;
+    }
     // The links, each from its own receiver's samples.
     std::vector<Link> evaluated(n);
     tbb::parallel_for(size_t(0), n, [&](size_t i) {
@@ -360,19 +408,21 @@ void LinkRefiner::evaluateLinks(const std::vector<PendingLink>& pending, const s
 
 // HSA91's initial linking: Refine every ordered pair of patch sides that can see each other (or,
 // with clusters, the root cluster's self-link).
-void LinkRefiner::linkPatches(const std::string& step) {
+void LinkRefiner::linkPatches(const std::string& step, float epsilonScale) {
+    linking_ = true;
+    updateThresholds(false, epsilonScale);
     if (clusters_) {
-        linkClusters(step);
-        return;
+        refineAndLink({{clusterNode(0), clusterNode(0)}}, step);
+    } else {
+        std::vector<RefinePair> pairs;
+        const int roots = static_cast<int>(2 * mesh_.patchCount());
+        for (int r = 0; r < roots; ++r) {
+            for (int s = 0; s < roots; ++s)
+                pairs.push_back({r, s});
+        }
+        refineAndLink(std::move(pairs), step);
     }
-    updateThresholds(false);
-    std::vector<RefinePair> pairs;
-    const int roots = static_cast<int>(2 * mesh_.patchCount());
-    for (int r = 0; r < roots; ++r) {
-        for (int s = 0; s < roots; ++s)
-            pairs.push_back({r, s});
-    }
-    refineAndLink(std::move(pairs), step);
+    linking_ = false;
 }
 
 bool LinkRefiner::canSplitNode(int n) const {
@@ -445,12 +495,6 @@ void LinkRefiner::refineClusterPair(int receiver, int source, std::vector<Refine
         splitReceiver = !(rs > rr && canSplitNode(source));
     for (const int c : nodeChildren(splitReceiver ? receiver : source))
         next.push_back(splitReceiver ? RefinePair{c, source} : RefinePair{receiver, c});
-}
-
-// Initial linking with clusters: the root's self-link, refined.
-void LinkRefiner::linkClusters(const std::string& step) {
-    updateThresholds(false);
-    refineAndLink({{clusterNode(0), clusterNode(0)}}, step);
 }
 
 // HSA91 "RefineLinks": every link whose error (linkErrors) now exceeds the threshold, with the

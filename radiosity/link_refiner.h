@@ -17,8 +17,11 @@
 #include "radiosity/radiosity_settings.h"
 #include "radiosity/solve_progress.h"
 
+#include <chrono>
 #include <cstdint>
 #include <functional>
+#include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -56,8 +59,19 @@ class LinkRefiner {
     // and each step's links get a stage "<step>: form factors and visibility".
     void setProgress(SolveProgress* progress) { progress_ = progress; }
 
-    // HSA91's initial linking, with the oracle on the current radiance.
-    void linkPatches(const std::string& step);
+    // When the caller's time for the solve is up (a time limit), if it has one.
+    using Deadline = std::optional<std::chrono::steady_clock::time_point>;
+    // What the refinement does once the deadline has passed: Coarsen links every pair it still
+    // examines as it stands wherever a link may be made (the oracle allows any error from then
+    // on), a coarser solution at the price of the links it has decided; Abandon, during the
+    // initial linking, stops and makes no more links (abandoned()), for a caller that can do
+    // without the solution.
+    enum class OnTimeUp { Coarsen, Abandon };
+    void setTimeLimit(Deadline deadline, OnTimeUp onTimeUp);
+    bool abandoned() const { return abandoned_; }
+    // HSA91's initial linking, with the oracle on the current radiance and epsilon times
+    // `epsilonScale` (coarser links for a solve that refines them in rounds as time allows).
+    void linkPatches(const std::string& step, float epsilonScale = 1.0f);
     // HSA91 "RefineLinks" with the radiance of the last solve. Returns whether any link was
     // refined.
     bool refineLinks(const std::string& step);
@@ -78,19 +92,22 @@ class LinkRefiner {
     // The first of the element's four children, splitting it first if it is a leaf.
     int children(int element);
     void finishSplits();
-    void linkClusters(const std::string& step);
     bool canSplitNode(int node) const;
     std::vector<int> nodeChildren(int node);
     void refineClusterPair(int receiver, int source, std::vector<RefinePair>& next,
                            std::vector<PendingLink>& pending);
     void refine(std::vector<RefinePair> batch, std::vector<PendingLink>& pending);
+    void refineSlice(std::span<const RefinePair> batch, std::vector<RefinePair>& next,
+                     std::vector<PendingLink>& pending);
     LinkErrors linkErrors(int source, float spread, float Fmax) const;
     void evaluateLinks(const std::vector<PendingLink>& pending, const std::string& step);
     // refine(), then finishSplits() and evaluateLinks() on what it made, in that order.
     void refineAndLink(std::vector<RefinePair> pairs, const std::string& step);
     bool exceedsThreshold(int receiver, int source, const LinkErrors& errors) const;
+    // Whether the deadline has passed (setTimeLimit); sets coarse_ when it has.
+    bool timeIsUp();
     bool smallTransfer(int source, float Fmax) const;
-    void updateThresholds(bool relativeFloor);
+    void updateThresholds(bool relativeFloor, float epsilonScale = 1.0f);
 
     RadiosityMesh& mesh_;
     const RadiositySettings& settings_;
@@ -108,6 +125,11 @@ class LinkRefiner {
     // The receiver-relative criterion's floor per channel (exceedsThreshold); 0 until the first
     // refinement round, when a solution is known (updateThresholds).
     Color relativeFloor_{0.0f};
+    Deadline deadline_;
+    OnTimeUp onTimeUp_ = OnTimeUp::Coarsen;
+    bool linking_ = false;      // in linkPatches(), where the refinement may be abandoned
+    bool coarse_ = false;       // the time was up: the oracle refines nothing more
+    bool abandoned_ = false;    // the initial linking stopped with the time (OnTimeUp::Abandon)
     std::vector<int> created_;  // elements split off since the last finishSplits()
     size_t refinedLinks_ = 0;
     uint64_t rays_ = 0;

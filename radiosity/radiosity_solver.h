@@ -82,6 +82,7 @@
 #include "core/math.h"
 #include "core/stats.h"
 #include "radiosity/deposited_flux.h"
+#include "radiosity/link_refiner.h"
 #include "radiosity/radiosity_iteration.h"
 #include "radiosity/radiosity_mesh.h"
 #include "radiosity/radiosity_settings.h"
@@ -103,7 +104,6 @@ class ElementExposure;
 class FinalGather;
 class GatherIteration;
 class LinkHierarchy;
-class LinkRefiner;
 class LinkTransfer;
 class RadianceHierarchy;
 class Scene;
@@ -121,11 +121,16 @@ class RadiositySolver : public RadiositySolution {
     // is refined and the iteration has converged (or maxIterations); then the direct part
     // (indirectRadiance) and the vertex values. Leaves the mesh's setElementValues() at the front
     // side's reflected radiance. Reports its stages to `progress` if given (solve_progress.h).
-    // `stopRefining`, if given, is asked before each refinement round and the final gather: once
-    // it says yes, the solve ends with the links it has (its last gather and the vertex values
-    // are quick), for a caller with a time limit whose later passes correct the solution's error.
-    void solve(SolveProgress* progress = nullptr,
-               const std::function<bool()>& stopRefining = nullptr);
+    // `deadline`, if given, is when the caller's time for the solve is up (a time limit): it is
+    // looked at as the links are refined and before each refinement round and the final gather.
+    // Once it has passed, the refinement stops: the solve ends with the links it has, those still
+    // being decided made as they stand (LinkRefiner::OnTimeUp::Coarsen; the last gather and the
+    // vertex values are quick). With OnTimeUp::Abandon, an initial linking that has not ended by
+    // the deadline abandons the solve instead (abandoned()): the solution is then not usable, for a
+    // caller that can do without it (the corrected hybrid traces what it would have held).
+    void solve(SolveProgress* progress = nullptr, LinkRefiner::Deadline deadline = std::nullopt,
+               LinkRefiner::OnTimeUp onTimeUp = LinkRefiner::OnTimeUp::Coarsen);
+    bool abandoned() const { return abandoned_; }
 
     // Extended transfer through specular surfaces (paths D S+ D, which the links do not carry):
     // `deposits` is the flux that the solution's reflected light (reflectedRadiance, shot as
@@ -207,7 +212,8 @@ class RadiositySolver : public RadiositySolution {
     std::unique_ptr<FinalGather> finalGather_;
 
     int rounds_ = 0;
-    bool stoppedRefining_ = false;       // stopRefining() ended the refinement
+    bool stoppedRefining_ = false;       // the deadline ended the refinement
+    bool abandoned_ = false;             // ... during the initial linking, with OnTimeUp::Abandon
     SideVertexValues vertexReflected_;   // the reflected radiance, per mesh vertex and side
     SideVertexValues vertexIndirect_;    // its indirect part (elementIndirect)
     SolveProgress* progress_ = nullptr;  // during solve() only

@@ -1,0 +1,136 @@
+// The hierarchical solver under a time limit (RadiositySolver::solve's deadline): a solve whose
+// time is up before it starts still ends with a whole solution, coarser, that keeps the closed
+// furnace's answer; told to abandon, it stops without links; and the hybrid pipeline whose solve
+// is abandoned renders the path tracer's very image, every path traced on.
+#include "core/image_io.h"
+#include "radiosity/radiosity_mesh.h"
+#include "radiosity/radiosity_solver.h"
+#include "tests/support/cli_runner.h"
+#include "tests/support/radiosity_scenes.h"
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <iostream>
+#include <string>
+
+namespace penumbra::test {
+namespace {
+
+// A deadline that has passed before the solve begins.
+LinkRefiner::Deadline past() {
+    return std::chrono::steady_clock::now() - std::chrono::seconds(1);
+}
+
+// Fine enough that, with time, the links go three levels below the furnace's patches.
+RadiositySettings fineSettings() {
+    RadiositySettings s;
+    s.minElementArea = 0.5f / 64.0f;
+    s.epsilon = 5e-4f;
+    s.finalGatherRays = 0;
+    return s;
+}
+
+// The area-weighted mean front radiance of the leaves, over the closed form Le / (1 - rho).
+double furnaceMeanRatio(const RadiositySolver& solver, const RadiosityMesh& mesh, double rho) {
+    double weighted = 0.0, area = 0.0;
+    for (size_t e = 0; e < mesh.elementCount(); ++e) {
+        const int element = static_cast<int>(e);
+        if (!mesh.isLeaf(element))
+            continue;
+        weighted += mesh.area(element) * solver.elementRadiance(element, true).g;
+        area += mesh.area(element);
+    }
+    return weighted / area * (1.0 - rho);
+}
+
+std::string stat(const RadiositySolver& solver, const std::string& key) {
+    for (const auto& [name, value] : solver.stats()) {
+        if (name == key)
+            return value;
+    }
+    return "";
+}
+
+TEST(SolveDeadline, PastDeadlineStillGivesAWholeCoarserSolution) {
+    const float rho = 0.9f;
+    const auto scene = furnaceBox(rho, "solve-deadline-furnace");
+    RadiosityMesh fineMesh(*scene, fineSettings().meshing(*scene));
+    RadiositySolver fine(*scene, fineMesh, fineSettings());
+    fine.solve();
+
+    RadiosityMesh coarseMesh(*scene, fineSettings().meshing(*scene));
+    RadiositySolver coarse(*scene, coarseMesh, fineSettings());
+    coarse.solve(nullptr, past(), LinkRefiner::OnTimeUp::Coarsen);
+    const double ratio = furnaceMeanRatio(coarse, coarseMesh, rho);
+    std::cout << "links " << coarse.linkCount() << " with the time up, " << fine.linkCount()
+              << " without; mean over Le / (1 - rho) " << ratio << "\n";
+    EXPECT_FALSE(coarse.abandoned());
+    EXPECT_EQ(stat(coarse, "refinement_stopped_by_time_limit"), "yes");
+    EXPECT_EQ(stat(coarse, "refinement_rounds"), "0");
+    EXPECT_TRUE(coarse.converged());
+    EXPECT_GT(coarse.linkCount(), 0u);
+    EXPECT_LT(coarse.linkCount(), fine.linkCount() / 2);
+    // Every element still exchanges light with the whole closed box: the mean within 2 % of the
+    // closed form (the fine solve's bound, furnace test, is 1 %; the coarse links' form factors
+    // are estimated over larger elements, with an error of the same order).
+    EXPECT_NEAR(ratio, 1.0, 0.02);
+}
+
+TEST(SolveDeadline, AbandonsWithoutLinksWhenTold) {
+    const auto scene = furnaceBox(0.5f, "solve-deadline-abandon");
+    RadiosityMesh mesh(*scene, fineSettings().meshing(*scene));
+    RadiositySolver solver(*scene, mesh, fineSettings());
+    solver.solve(nullptr, past(), LinkRefiner::OnTimeUp::Abandon);
+    EXPECT_TRUE(solver.abandoned());
+    EXPECT_EQ(solver.linkCount(), 0u);
+    EXPECT_EQ(stat(solver, "abandoned_by_time_limit"), "yes");
+}
+
+TEST(SolveDeadline, HybridWithoutTimeForTheSolveRendersThePathTracersImage) {
+    // A time limit far shorter than any solve: the corrected hybrid's radiosity pass abandons
+    // its solve and the path pass traces every path on, so that with the same seed its image is
+    // the `reference` pipeline's, pixel for pixel (the box has no specular surface, so no caustic
+    // pass runs either). A path pass that still stopped at the second diffuse vertex would lose
+    // the indirect light, a third of this box's.
+    const std::string scene =
+        std::string(PENUMBRA_SOURCE_DIR) + "/scenes/cornell-box/cornell-box.gltf";
+    const std::string options = "--time-limit 0.001 --width 32 --height 32 --threads 2 --seed 3";
+    TempDir dir("solve-deadline-hybrid");
+    CliResult run;
+    const Image hybrid =
+        renderImage(scene, dir.file("hybrid.exr"), "--pipeline hybrid " + options, &run);
+    EXPECT_NE(run.output.find("abandoned_by_time_limit: yes"), std::string::npos) << run.output;
+    const Image traced =
+        renderImage(scene, dir.file("reference.exr"), "--pipeline reference " + options);
+    ASSERT_EQ(hybrid.pixels().size(), traced.pixels().size());
+    size_t differing = 0;
+    for (size_t i = 0; i < hybrid.pixels().size(); ++i)
+        differing += hybrid.pixels()[i] != traced.pixels()[i];
+    EXPECT_EQ(differing, 0u);
+    EXPECT_GT(luminanceMean(traced), 0.0);
+}
+
+TEST(SolveDeadline, DistributionWithoutTimeForTheSolveStillSeesTheIndirectLight) {
+    // The distribution preview cannot do without its solution: with no time for the solve it
+    // takes the coarse one (the links made as they stand), not none. Its whole image's mean
+    // luminance against the stored path-traced reference, at one sample per pixel: without the
+    // solution's indirect light it would be a third dark; the bound is about three times the
+    // largest deviation of the full solve's one-sample images (seeds 0-3: at most 3.6 %).
+    const std::string folder = std::string(PENUMBRA_SOURCE_DIR) + "/scenes/cornell-box";
+    TempDir dir("solve-deadline-distribution");
+    CliResult run;
+    const Image image = renderImage(
+        folder + "/cornell-box.gltf", dir.file("distribution.exr"),
+        "--pipeline distribution --time-limit 0.001 --width 128 --height 128 --threads 2 --seed 3",
+        &run);
+    EXPECT_NE(run.output.find("abandoned_by_time_limit: no"), std::string::npos) << run.output;
+    EXPECT_NE(run.output.find("refinement_stopped_by_time_limit: yes"), std::string::npos);
+    const double ratio = luminanceMean(image) / luminanceMean(readImage(folder + "/reference.exr"));
+    std::cout << "mean luminance over the reference's: " << ratio << "\n";
+    EXPECT_NEAR(ratio, 1.0, 0.1);
+}
+
+}  // namespace
+}  // namespace penumbra::test
