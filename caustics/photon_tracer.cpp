@@ -5,6 +5,7 @@
 #include "core/sampler.h"
 #include "core/sampling.h"
 #include "core/scene.h"
+#include "core/scene_contents.h"
 #include "core/surface_crossing.h"
 
 #include <tbb/blocked_range.h>
@@ -28,11 +29,6 @@ constexpr size_t kMaxTargets = 64;
 constexpr int kRouletteStartDepth = 3;
 constexpr float kMinTerminationProbability = 0.05f;
 
-struct Sphere {
-    Vec3 center;
-    float radius;
-};
-
 // Whether the BSDF of any triangle of the mesh has a delta lobe. The material's textures can
 // change the lobes (a roughness map), so a textured material is checked at every triangle's
 // centroid; an untextured one at its first triangle.
@@ -50,14 +46,10 @@ bool hasSpecularLobe(const Scene& scene, uint32_t meshIndex) {
     return false;
 }
 
-Sphere boundingSphere(const Mesh& mesh) {
-    Bounds3 bounds;
-    for (const Vec3& p : mesh.positions)
-        bounds.extend(p);
-    Sphere s{bounds.center(), 0.0f};
-    for (const Vec3& p : mesh.positions)
-        s.radius = std::max(s.radius, glm::distance(p, s.center));
-    // Rounding must not let a grazing photon miss the sphere but hit the mesh.
+// The mesh's bounding sphere, a little larger: rounding must not let a grazing photon miss the
+// sphere but hit the mesh.
+Sphere aimSphere(const Mesh& mesh) {
+    Sphere s = boundingSphere(mesh);
     s.radius = s.radius * (1.0f + 1e-4f) + 1e-6f;
     return s;
 }
@@ -70,7 +62,7 @@ std::vector<Sphere> aimTargets(const Scene& scene, int& specularMeshes) {
         const Mesh& mesh = scene.meshes()[m];
         if (mesh.triangles.empty() || !hasSpecularLobe(scene, m))
             continue;
-        targets.push_back(boundingSphere(mesh));
+        targets.push_back(aimSphere(mesh));
         for (const Vec3& p : mesh.positions)
             all.extend(p);
     }

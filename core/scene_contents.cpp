@@ -4,6 +4,8 @@
 #include "core/light.h"
 
 #include <algorithm>
+#include <optional>
+#include <vector>
 
 namespace penumbra {
 
@@ -12,19 +14,77 @@ namespace {
 // Triangles of a mesh looked at to classify its material (scene_contents.h).
 constexpr size_t kTrianglesPerMesh = 16;
 
+// Stratified light samples per light and specular mesh for the solid angle (lightSolidAngle).
+constexpr int kSolidAngleSamples = 4;
+
+// The solid angle an area light subtends at p, unoccluded: the mean of 1 / pdf over directions
+// sampled with the light's own solid-angle pdf (E_p[1 / p] is the measure of p's support).
+float lightSolidAngle(const Light& light, const Vec3& p) {
+    double sum = 0.0;
+    for (int i = 0; i < kSolidAngleSamples; ++i) {
+        const Vec2 u((i % 2 + 0.5f) / 2.0f, (i / 2 + 0.5f) / 2.0f);
+        const std::optional<LightLiSample> s = light.sampleLi(LightSampleContext{p}, u);
+        if (s && s->pdf > 0.0f)
+            sum += 1.0 / s->pdf;
+    }
+    return static_cast<float>(std::min(sum / kSolidAngleSamples, 4.0 * kPi));
+}
+
+// SceneContents::lightSolidAngleAtSpecular.
+float lightSolidAngleAtSpecular(const Scene& scene, const std::vector<Sphere>& specularMeshes) {
+    double weighted = 0.0, weights = 0.0;
+    for (const Sphere& target : specularMeshes) {
+        double solidAngle = 0.0, reaching = 0.0;
+        for (const auto& light : scene.lights()) {
+            if (light->kind() != LightKind::Area)
+                continue;
+            const float omega = lightSolidAngle(*light, target.center);
+            solidAngle += omega;
+            // The fraction of the light's sky the sphere covers, seen from a point of the light
+            // (its centre's sample), as the caustic photons are aimed.
+            const std::optional<LightLiSample> s =
+                light->sampleLi(LightSampleContext{target.center}, Vec2(0.5f));
+            if (!s)
+                continue;
+            const float d2 =
+                glm::max(glm::dot(s->pLight - target.center, s->pLight - target.center), 1e-12f);
+            const float covered = glm::min(sqr(target.radius) / d2, 1.0f);
+            reaching += luminance(light->power()) * covered;
+        }
+        weighted += reaching * solidAngle;
+        weights += reaching;
+    }
+    return weights > 0.0 ? static_cast<float>(weighted / weights) : 0.0f;
+}
+
 }  // namespace
+
+Sphere boundingSphere(const Mesh& mesh) {
+    Bounds3 bounds;
+    for (const Vec3& p : mesh.positions)
+        bounds.extend(p);
+    Sphere s{bounds.center(), 0.0f};
+    for (const Vec3& p : mesh.positions)
+        s.radius = std::max(s.radius, glm::distance(p, s.center));
+    return s;
+}
 
 SceneContents analyseScene(const Scene& scene) {
     SceneContents contents;
+    std::vector<Sphere> specularMeshes;
     for (uint32_t m = 0; m < scene.meshes().size(); ++m) {
         const size_t count = scene.meshes()[m].triangles.size();
         const size_t step = std::max<size_t>(1, count / kTrianglesPerMesh);
-        for (size_t t = 0; t < count && !(contents.diffuse && contents.specular); t += step) {
+        bool specular = false;
+        for (size_t t = 0; t < count; t += step) {
             const SurfaceHit hit = scene.surfaceAt(m, static_cast<uint32_t>(t), Vec3(1.0f / 3.0f));
             const Bsdf bsdf = scene.bsdf(hit);
             contents.diffuse = contents.diffuse || bsdf.hasNonDeltaLobe();
-            contents.specular = contents.specular || (bsdf.lobes() & kLobeSpecular) != 0;
+            specular = specular || (bsdf.lobes() & kLobeSpecular) != 0;
         }
+        if (specular)
+            specularMeshes.push_back(boundingSphere(scene.meshes()[m]));
+        contents.specular = contents.specular || specular;
     }
     for (const auto& light : scene.lights()) {
         if (light->kind() == LightKind::Area)
@@ -32,6 +92,7 @@ SceneContents analyseScene(const Scene& scene) {
         else
             ++contents.punctualLights;
     }
+    contents.lightSolidAngleAtSpecular = lightSolidAngleAtSpecular(scene, specularMeshes);
     return contents;
 }
 

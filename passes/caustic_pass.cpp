@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <sstream>
 
 namespace penumbra {
 
@@ -49,6 +50,30 @@ std::unique_ptr<Pass> CausticPass::fromScript(const ScriptTable& table,
     return keys.construct("caustics.", [&] {
         return std::make_unique<CausticPass>(settings, maxSpecularDepth, viewSpp);
     });
+}
+
+// Above this solid angle of the lights seen from the specular meshes
+// (SceneContents::lightSolidAngleAtSpecular) a yielding caustic pass steps aside: the path
+// tracer finds those caustics often enough. Measured: the modern hall's lights, seen through its
+// glass balustrade, 1.8 sr, where the corrected hybrid without the map is 0.49 x the path
+// tracer at 64 s against 0.58 x with it; the caustic spheres' 8 cm light, 0.027 sr, where the
+// map takes the hybrid's error at 16 s from 0.033 to 0.0077; the glossy spheres' 0.15 sr. The
+// threshold sits between the two measured scenes, about their geometric mean.
+constexpr float kLargeLightSolidAngle = 0.25f;
+
+std::string CausticPass::skipReason(const SceneContents& contents) const {
+    const std::string none = causticPassSkipReason(contents);
+    if (!none.empty() || !yields_ || !causticsTracedLater_)
+        return none;
+    // A punctual light's caustics cannot be found by tracing from the eye: the map stays.
+    if (contents.punctualLights > 0 || contents.lightSolidAngleAtSpecular < kLargeLightSolidAngle)
+        return "";
+    std::ostringstream reason;
+    reason.precision(2);
+    reason << "the lights look large from the specular surfaces ("
+           << contents.lightSolidAngleAtSpecular << " sr, above " << kLargeLightSolidAngle
+           << "): the path pass traces their caustics";
+    return reason.str();
 }
 
 CausticPass::CausticPass(CausticSettings settings, int maxSpecularDepth, int viewSpp)

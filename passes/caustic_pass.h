@@ -66,9 +66,13 @@ class CausticPass : public SamplingPass {
     std::string lightPaths() const override { return "L S+ D S* E"; }
     std::set<std::string> products() const override { return {products::kCausticMap}; }
     TransportFlags transportFlags() const override { return {true, false}; }
-    std::string skipReason(const SceneContents& contents) const override {
-        return causticPassSkipReason(contents);
+    std::string skipReason(const SceneContents& contents) const override;
+    void adapt(const PipelineShape& shape) override {
+        causticsTracedLater_ = shape.causticsTracedLater;
     }
+    // Lets the pass step aside where a path pass after it would trace the caustics itself and
+    // the lights look large from the specular surfaces (skipReason): the corrected hybrid's.
+    void yieldToPathTracerForLargeLights() { yields_ = true; }
     PassStats parameters() const override;
     PassStats stats() const override;
 
@@ -90,6 +94,8 @@ class CausticPass : public SamplingPass {
     CausticSettings settings_;
     int maxSpecularDepth_;
     int viewSpp_;
+    bool yields_ = false;               // yieldToPathTracerForLargeLights()
+    bool causticsTracedLater_ = false;  // PipelineShape::causticsTracedLater
     std::shared_ptr<const CausticMap> map_;
 };
 

@@ -111,6 +111,9 @@ struct TransportFlags {
     // pass that corrects the solution: its estimate is the path tracer's in expectation either
     // way), so a solve short of time may be abandoned for it.
     bool solutionOptional = false;
+    // The pass counts the caustic paths L S+ D S* E itself when no other pass of the pipeline
+    // does (a path pass with caustics = "auto").
+    bool tracesUncountedCaustics = false;
 };
 
 // What a pass learns of the rest of its pipeline when the pipeline is planned.
@@ -130,6 +133,9 @@ struct PipelineShape {
     // A pass after this one reuses the radiosity solution and cannot do without it
     // (TransportFlags::solutionOptional).
     bool solutionRequiredLater = false;
+    // A pass after this one traces the caustic paths L S+ D S* E itself when no other pass counts
+    // them (TransportFlags::tracesUncountedCaustics).
+    bool causticsTracedLater = false;
 };
 
 class Pass {

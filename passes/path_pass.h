@@ -44,13 +44,16 @@ class PathPass : public SamplingPass {
     // time at 16 s. The preview takes it from a solution that holds it with the caustics.
     // Without the solution (a solve abandoned at the time limit) a correcting pass traces every
     // path on, as the path tracer does.
+    // In caustics = "auto" it traces the caustic paths when no other pass counts them.
     TransportFlags transportFlags() const override {
+        const bool tracesCaustics = caustics_ == Caustics::Auto;
         if (!settings_.reuseRadiosity)
-            return {};
+            return {.tracesUncountedCaustics = tracesCaustics};
         const bool corrects = settings_.correctionProbability > 0.0f;
         return {
             .specularAtReuse = corrects ? SpecularAtReuse::kTraced : SpecularAtReuse::kFromSolution,
-            .solutionOptional = corrects};
+            .solutionOptional = corrects,
+            .tracesUncountedCaustics = tracesCaustics};
     }
     std::set<std::string> needs() const override;
     void adapt(const PipelineShape& shape) override;

@@ -3,6 +3,8 @@
 #include "core/light_paths.h"
 #include "passes/products.h"
 
+#include <stdexcept>
+
 namespace penumbra {
 
 namespace {
@@ -22,20 +24,30 @@ std::string joined(const std::vector<std::string>& items, const std::string& sep
 
 std::optional<PipelineProblem> checkPipeline(Pipeline& pipeline) {
     const auto& passes = pipeline.passes();
+    // Passes the scene skipped (planForScene) take no part: the others are fitted to the rest.
+    const auto skipped = [&pipeline](size_t i) { return pipeline.skipped(i); };
     PipelineShape shape;
-    for (const auto& pass : passes) {
-        for (const std::string& product : pass->products())
+    for (size_t i = 0; i < passes.size(); ++i) {
+        if (skipped(i))
+            continue;
+        for (const std::string& product : passes[i]->products())
             shape.products.insert(product);
         shape.causticPathsCounted =
-            shape.causticPathsCounted || pass->transportFlags().countsCausticPaths;
+            shape.causticPathsCounted || passes[i]->transportFlags().countsCausticPaths;
     }
     for (size_t i = 0; i < passes.size(); ++i) {
+        if (skipped(i))
+            continue;
         shape.neededLater.clear();
         shape.specularTracedLater = false;
         shape.specularFromSolutionLater = false;
         shape.solutionRequiredLater = false;
+        shape.causticsTracedLater = false;
         for (size_t j = i + 1; j < passes.size(); ++j) {
+            if (skipped(j))
+                continue;
             const TransportFlags later = passes[j]->transportFlags();
+            shape.causticsTracedLater = shape.causticsTracedLater || later.tracesUncountedCaustics;
             for (const std::string& need : passes[j]->needs()) {
                 shape.neededLater.insert(need);
                 shape.solutionRequiredLater =
@@ -57,9 +69,11 @@ std::optional<PipelineProblem> checkPipeline(Pipeline& pipeline) {
             shape.specularTransferInRadiosity || flags.solutionTransfersSpecular;
     }
 
+    // A product whose pass the scene skipped counts as made: it would have been empty (no
+    // diffuse surface for a solution), and the passes reusing it do without.
     std::set<std::string> made;
     for (size_t i = 0; i < passes.size(); ++i) {
-        for (const std::string& need : passes[i]->needs()) {
+        for (const std::string& need : skipped(i) ? std::set<std::string>{} : passes[i]->needs()) {
             if (made.count(need) == 0) {
                 return PipelineProblem{i, passName(i, *passes[i]) + " reuses the " + need +
                                               " product, which no earlier pass makes: put a pass "
@@ -73,11 +87,11 @@ std::optional<PipelineProblem> checkPipeline(Pipeline& pipeline) {
 
     // Every pair of image-forming passes must count disjoint sets of light paths.
     for (size_t j = 0; j < passes.size(); ++j) {
-        if (passes[j]->lightPaths().empty())
+        if (skipped(j) || passes[j]->lightPaths().empty())
             continue;
         const PathSet later = PathSet::parse(passes[j]->lightPaths());
         for (size_t i = 0; i < j; ++i) {
-            if (passes[i]->lightPaths().empty())
+            if (skipped(i) || passes[i]->lightPaths().empty())
                 continue;
             const PathSet common = PathSet::parse(passes[i]->lightPaths()) & later;
             const std::vector<std::string> examples = common.shortestPaths(3);
@@ -111,13 +125,21 @@ PipelinePlan planForScene(Pipeline& pipeline, const SceneContents& contents) {
     }
 
     const auto& passes = pipeline.passes();
+    std::vector<std::string> skipReasons(passes.size());
+    for (size_t i = 0; i < passes.size(); ++i) {
+        skipReasons[i] = passes[i]->skipReason(contents);
+        if (!skipReasons[i].empty())
+            pipeline.skip(i);
+    }
+    // The passes that run are fitted to each other again (a path pass counts the caustics
+    // itself once the caustic pass is skipped); a preset or a checked script stays consistent.
+    if (const auto problem = checkPipeline(pipeline))
+        throw std::logic_error("planning " + pipeline.name() + ": " + problem->message);
     PathSet counted = PathSet::parse("");
     for (size_t i = 0; i < passes.size(); ++i) {
         const Pass& pass = *passes[i];
-        const std::string skip = pass.skipReason(contents);
-        if (!skip.empty()) {
-            pipeline.skip(i);
-            plan.decisions.push_back(passName(i, pass) + ": skipped: " + skip);
+        if (!skipReasons[i].empty()) {
+            plan.decisions.push_back(passName(i, pass) + ": skipped: " + skipReasons[i]);
             continue;
         }
         plan.decisions.push_back(passName(i, pass) + ": runs; " +

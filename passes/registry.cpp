@@ -64,7 +64,11 @@ const std::vector<std::pair<std::string, PresetFactory>>& presets() {
         {"hybrid",
          [](const RenderSettings& settings) {
              std::vector<std::unique_ptr<Pass>> passes;
-             passes.push_back(std::make_unique<CausticPass>(CausticPass::defaultSettings()));
+             // The caustic map only where the lights look small from the specular surfaces:
+             // large ones the corrected path tracer finds itself, faster (CausticPass).
+             auto caustics = std::make_unique<CausticPass>(CausticPass::defaultSettings());
+             caustics->yieldToPathTracerForLargeLights();
+             passes.push_back(std::move(caustics));
              passes.push_back(
                  std::make_unique<RadiosityPass>(RadiositySettings::forCorrectedReuse()));
              PathTracerSettings path{settings.maxDepth};

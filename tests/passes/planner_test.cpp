@@ -14,6 +14,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
 
 namespace penumbra {
@@ -118,6 +119,31 @@ TEST(Planner, HybridLeavesCausticsToTheCausticPassAndNamesIndirectCaustics) {
         << plan.warnings[0];
     for (size_t i = 0; i < 3; ++i)
         EXPECT_FALSE(pipeline.skipped(i));
+}
+
+// The corrected hybrid's caustic pass steps aside where the lights look large from the specular
+// surfaces (the modern hall's, 1.8 sr): its path pass then counts the caustics itself, and every
+// path is still counted once. Small lights (the caustic spheres', 0.027 sr) and punctual lights,
+// which no path from the eye can find, keep the map; so does the preview, which reuses it.
+TEST(Planner, HybridLeavesTheCausticsOfLargeLightsToItsPathPass) {
+    const auto plan = [](const std::string& preset, float solidAngle, size_t punctual) {
+        Pipeline pipeline = makePipelinePreset(preset, RenderSettings{});
+        SceneContents contents{true, true, 1, punctual};
+        contents.lightSolidAngleAtSpecular = solidAngle;
+        const PipelinePlan result = planForScene(pipeline, contents);
+        EXPECT_TRUE(result.warnings.empty()) << preset << " " << solidAngle;
+        return std::make_pair(pipeline.skipped(0), pipeline.passes()[2]->lightPaths());
+    };
+    const auto [largeSkipped, largePaths] = plan("hybrid", 1.8f, 0);
+    EXPECT_TRUE(largeSkipped);
+    // The path pass without a caustic map: all of the path tracer's paths.
+    EXPECT_TRUE(PathSet::parse(largePaths).contains("L S D E")) << largePaths;
+    const auto [smallSkipped, smallPaths] = plan("hybrid", 0.027f, 0);
+    EXPECT_FALSE(smallSkipped);
+    EXPECT_FALSE(PathSet::parse(smallPaths).contains("L S D E")) << smallPaths;
+    EXPECT_FALSE(plan("hybrid", 1.8f, 1).first);
+    EXPECT_FALSE(plan("hybrid-preview", 1.8f, 0).first);
+    EXPECT_FALSE(plan("distribution", 1.8f, 0).first);
 }
 
 // The preset: the caustic map first, so that the solution takes its photons (L S+ D+) and the
@@ -300,6 +326,23 @@ TEST(Planner, AnalysisFindsDiffuseAndSpecularSurfaces) {
     test::addFloorBlock(builder, builder.addMaterial(mirror));
     const auto withMirror = test::loadBuiltScene(builder, "planner_mirror");
     EXPECT_TRUE(analyseScene(*withMirror).specular);
+}
+
+TEST(Planner, AnalysisMeasuresTheLightsSolidAngleFromTheSpecularSurfaces) {
+    // A 0.2 m square light facing down 0.99 m above a small mirror: from the mirror's centre it
+    // subtends 4 asin(a b / sqrt((a^2 + 4 d^2)(b^2 + 4 d^2))) (the rectangle's closed form).
+    test::GltfBuilder builder;
+    test::addCeilingLight(builder, 0.1f, 0.99f, 5.0f);
+    test::TestMaterial mirror;
+    mirror.metallic = 1.0f;
+    mirror.roughness = 0.0f;
+    mirror.lambertian = false;
+    const float m = 0.05f;
+    builder.addQuad({-m, 0, m}, {m, 0, m}, {m, 0, -m}, {-m, 0, -m}, builder.addMaterial(mirror));
+    const auto scene = test::loadBuiltScene(builder, "planner_solid_angle");
+    const double a = 0.2, d = 0.99;
+    const double expected = 4.0 * std::asin(a * a / (a * a + 4.0 * d * d));
+    EXPECT_NEAR(analyseScene(*scene).lightSolidAngleAtSpecular, expected, 0.02 * expected);
 }
 
 // The beauty of `passes` seen from inside a closed box of walls of one material, size x size
