@@ -17,17 +17,28 @@ constexpr size_t kTrianglesPerMesh = 16;
 // Stratified light samples per light and specular mesh for the solid angle (lightSolidAngle).
 constexpr int kSolidAngleSamples = 4;
 
-// The solid angle an area light subtends at p, unoccluded: the mean of 1 / pdf over directions
-// sampled with the light's own solid-angle pdf (E_p[1 / p] is the measure of p's support).
-float lightSolidAngle(const Light& light, const Vec3& p) {
-    double sum = 0.0;
+// An area light as seen from p, unoccluded: the solid angle it subtends, the mean of 1 / pdf over
+// directions sampled with its own solid-angle pdf (E_p[1 / p] is the measure of p's support),
+// and the mean squared distance to its sampled points.
+struct LightView {
+    double solidAngle = 0.0, distance2 = 0.0;
+};
+
+LightView viewOf(const Light& light, const Vec3& p) {
+    LightView view;
+    int found = 0;
     for (int i = 0; i < kSolidAngleSamples; ++i) {
         const Vec2 u((i % 2 + 0.5f) / 2.0f, (i / 2 + 0.5f) / 2.0f);
         const std::optional<LightLiSample> s = light.sampleLi(LightSampleContext{p}, u);
-        if (s && s->pdf > 0.0f)
-            sum += 1.0 / s->pdf;
+        if (!s || !(s->pdf > 0.0f))
+            continue;
+        view.solidAngle += 1.0 / s->pdf;
+        view.distance2 += glm::dot(s->pLight - p, s->pLight - p);
+        ++found;
     }
-    return static_cast<float>(std::min(sum / kSolidAngleSamples, 4.0 * kPi));
+    view.solidAngle = std::min(view.solidAngle / kSolidAngleSamples, 4.0 * kPi);
+    view.distance2 = found > 0 ? view.distance2 / found : 0.0;
+    return view;
 }
 
 // SceneContents::lightSolidAngleAtSpecular.
@@ -38,17 +49,13 @@ float lightSolidAngleAtSpecular(const Scene& scene, const std::vector<Sphere>& s
         for (const auto& light : scene.lights()) {
             if (light->kind() != LightKind::Area)
                 continue;
-            const float omega = lightSolidAngle(*light, target.center);
-            solidAngle += omega;
-            // The fraction of the light's sky the sphere covers, seen from a point of the light
-            // (its centre's sample), as the caustic photons are aimed.
-            const std::optional<LightLiSample> s =
-                light->sampleLi(LightSampleContext{target.center}, Vec2(0.5f));
-            if (!s)
+            const LightView view = viewOf(*light, target.center);
+            if (!(view.distance2 > 0.0))
                 continue;
-            const float d2 =
-                glm::max(glm::dot(s->pLight - target.center, s->pLight - target.center), 1e-12f);
-            const float covered = glm::min(sqr(target.radius) / d2, 1.0f);
+            solidAngle += view.solidAngle;
+            // The fraction of the light's sky the sphere covers, as the caustic photons are
+            // aimed (caustics/photon_tracer.h).
+            const double covered = std::min(double(sqr(target.radius)) / view.distance2, 1.0);
             reaching += luminance(light->power()) * covered;
         }
         weighted += reaching * solidAngle;

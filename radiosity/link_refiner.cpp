@@ -172,8 +172,8 @@ void LinkRefiner::refine(std::vector<RefinePair> batch, std::vector<PendingLink>
     }
 }
 
-// One level's pairs [begin, end) of refine(): their kernel samples in parallel, then the
-// decisions in order.
+// A slice of one level's pairs of refine(): their kernel samples in parallel, then the decisions
+// in order.
 void LinkRefiner::refineSlice(std::span<const RefinePair> batch, std::vector<RefinePair>& next,
                               std::vector<PendingLink>& pending) {
     if (progress_)
@@ -298,7 +298,7 @@ void LinkRefiner::evaluateLinks(const std::vector<PendingLink>& pending, const s
     // Once the deadline has passed, abandoned (no link is made) or, between chunks, made
     // coarser: the links after take their visibility adaptively.
     const bool mayAbandon = linking_ && onTimeUp_ == OnTimeUp::Abandon;
-    const auto late = [this, mayAbandon](size_t) { return timeIsUp() && mayAbandon; };
+    const auto late = [this, mayAbandon] { return timeIsUp() && mayAbandon; };
     const bool complete = parallelForWithProgress(
         n, progress_,
         [&](size_t i) {
@@ -364,7 +364,7 @@ void LinkRefiner::evaluateLinks(const std::vector<PendingLink>& pending, const s
                 childV[static_cast<size_t>(j)] = childV[i].reversed();
             }
         },
-        deadline_ ? std::function<bool(size_t)>(late) : nullptr);
+        deadline_ ? std::function<bool()>(late) : nullptr);
     if (!complete) {
         abandoned_ = true;
         return;

@@ -72,14 +72,14 @@ class ConsoleSolveProgress : public SolveProgress {
 // Runs body(i) for every i in [0, n) in parallel, in successive chunks of about 1/200 of n, and
 // advances `progress` (if any) by each chunk as it ends: a bar that moves without an atomic
 // operation per item. A chunk is at least 256 items, so that the wait for its last few is small.
-// `stop`, if given, is asked before each chunk with the number of items done: once it says yes,
-// the rest is not run and the function returns false.
+// `stop`, if given, is asked before each chunk: once it says yes, the rest is not run and the
+// function returns false.
 template <typename Body>
 bool parallelForWithProgress(size_t n, SolveProgress* progress, const Body& body,
-                             const std::function<bool(size_t done)>& stop = nullptr) {
+                             const std::function<bool()>& stop = nullptr) {
     const size_t chunk = std::max<size_t>(n / 200, 256);
     for (size_t begin = 0; begin < n; begin += chunk) {
-        if (stop && stop(begin))
+        if (stop && stop())
             return false;
         const size_t end = std::min(n, begin + chunk);
         tbb::parallel_for(begin, end, body);
