@@ -51,9 +51,9 @@ struct PathRadiance {
                                                       Color(0.0f)};
     // The part of each component that corrects a reused radiosity solution's bias (the
     // hybrid's correction, raytrace/path_tracer.h) and that the image is to reconstruct on its
-    // own, counted in `components` as well: zero for every other estimator, and for a path
-    // whose correction is better left as it is (one first reflected by a glossy lobe). The
-    // image renderer keeps its mean apart for its filter (raytrace/correction_filter.h).
+    // own, counted in `components` as well: zero for every other estimator. The image renderer
+    // keeps its mean apart for its filter (raytrace/correction_filter.h), whose width each pixel
+    // chooses: narrow where the correction is sharp, as where a glossy floor reflects it.
     std::array<Color, kPathComponentCount> corrections{Color(0.0f), Color(0.0f), Color(0.0f),
                                                        Color(0.0f)};
 

@@ -3,6 +3,7 @@
 #include "core/math.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <vector>
 
@@ -43,6 +44,135 @@ float normalGap(const Vec3& a, const Vec3& b) {
     return 1.0f - glm::dot(a, b);
 }
 
+// Pixels within this many pixels (each axis) of the centre are in a filter of width sigma.
+int reachOf(float sigma) {
+    return static_cast<int>(std::ceil(2.0f * sigma));
+}
+
+// How alike two pixels' surfaces are, as a weight in (0, 1], from the guide's features gathered
+// per pixel once (the normals made unit) rather than once per neighbour.
+class SurfaceLikeness {
+  public:
+    explicit SurfaceLikeness(const FilterGuide& guide)
+        : width_(guide.normal.width()),
+          features_(static_cast<size_t>(width_) * guide.normal.height()) {
+        for (int y = 0; y < guide.normal.height(); ++y)
+            for (int x = 0; x < width_; ++x)
+                features_[static_cast<size_t>(y) * width_ + x] = {unitNormal(guide.normal, x, y),
+                                                                  guide.depth.at(x, y, 0),
+                                                                  pixel3(guide.albedo, x, y)};
+    }
+
+    // Pixel (qx, qy) seen from pixel (x, y), `distance` pixels apart.
+    float operator()(int x, int y, int qx, int qy, float distance) const {
+        const Features& p = at(x, y);
+        const Features& q = at(qx, qy);
+        const float angleGap = normalGap(p.normal, q.normal);
+        const float depthGap = std::abs(q.depth - p.depth) /
+                               (kDepthScale * std::max(p.depth, 1e-6f) * std::max(distance, 1.0f));
+        const float albedoGap = maxComponent(glm::abs(q.albedo - p.albedo)) / kAlbedoScale;
+        return std::exp(-angleGap / kNormalScale - depthGap - sqr(albedoGap));
+    }
+
+  private:
+    struct Features {
+        Vec3 normal;
+        float depth;
+        Vec3 albedo;
+    };
+    const Features& at(int x, int y) const {
+        return features_[static_cast<size_t>(y) * width_ + x];
+    }
+
+    int width_;
+    std::vector<Features> features_;
+};
+
+// A Gaussian of width sigma tabulated over a square window of half-width `reach` (at least the
+// filter's own reach, zero beyond it), with each offset's distance: no exp per neighbour.
+class GaussianWindow {
+  public:
+    GaussianWindow(float sigma, int reach)
+        : reach_(reach), weights_(sqr(size_t(2 * reach + 1))), distances_(weights_.size()) {
+        const int own = sigma < kMinimumSigma ? -1 : reachOf(sigma);
+        for (int dy = -reach; dy <= reach; ++dy) {
+            for (int dx = -reach; dx <= reach; ++dx) {
+                const size_t i = index(dx, dy);
+                const float d2 = float(sqr(dx) + sqr(dy));
+                distances_[i] = std::sqrt(d2);
+                const bool inside = std::abs(dx) <= own && std::abs(dy) <= own;
+                weights_[i] = inside ? std::exp(-0.5f * d2 / sqr(sigma)) : 0.0f;
+            }
+        }
+    }
+
+    int reach() const { return reach_; }
+    float weight(int dx, int dy) const { return weights_[index(dx, dy)]; }
+    float distance(int dx, int dy) const { return distances_[index(dx, dy)]; }
+
+  private:
+    size_t index(int dx, int dy) const {
+        return static_cast<size_t>(dy + reach_) * size_t(2 * reach_ + 1) + size_t(dx + reach_);
+    }
+
+    int reach_;
+    std::vector<float> weights_, distances_;
+};
+
+// The candidate widths of chooseFilterWidths, narrowest first.
+constexpr int kCandidates = 4;
+constexpr int kDefaultCandidate = 2;  // sigma itself
+using Candidates = std::array<float, kCandidates>;
+
+Candidates candidateWidths(float sigma) {
+    return {0.0f, 0.5f * sigma, sigma, std::max(sigma, std::min(2.0f * sigma, kWidestChosenSigma))};
+}
+
+// Each candidate's SURE of one pixel's squared error (summed over the channels), NaN where the
+// pixel's variance is unknown. windows: each candidate's Gaussian over the widest's window.
+Candidates pixelRisks(const NoisyImage& image, const SurfaceLikeness& likeness,
+                      const std::array<GaussianWindow, kCandidates>& windows, int x, int y) {
+    const Image& mean = image.mean;
+    const int channels = mean.channels();
+    double variance = 0.0;
+    for (int c = 0; c < channels; ++c) {
+        const float v = image.varianceOfMean.at(x, y, c);
+        if (!(v >= 0.0f))
+            return Candidates{NAN, NAN, NAN, NAN};
+        variance += v;
+    }
+    std::array<std::array<double, 3>, kCandidates> sums{};
+    std::array<double, kCandidates> weights{};
+    const int reach = windows[0].reach();
+    for (int qy = std::max(y - reach, 0); qy <= std::min(y + reach, mean.height() - 1); ++qy) {
+        for (int qx = std::max(x - reach, 0); qx <= std::min(x + reach, mean.width() - 1); ++qx) {
+            const int dx = qx - x, dy = qy - y;
+            const float alike = likeness(x, y, qx, qy, windows[0].distance(dx, dy));
+            for (size_t k = 0; k < kCandidates; ++k) {
+                const double w = double(alike) * windows[k].weight(dx, dy);
+                if (w <= 0.0)
+                    continue;
+                weights[k] += w;
+                for (int c = 0; c < channels; ++c)
+                    sums[k][size_t(c)] += w * mean.at(qx, qy, c);
+            }
+        }
+    }
+    Candidates risks;
+    for (size_t k = 0; k < kCandidates; ++k) {
+        // A width below the filter's smallest leaves the pixel as it is: F = y, dF/dy = 1.
+        if (weights[k] <= 0.0) {
+            risks[k] = float(variance);
+            continue;
+        }
+        double error = 0.0;
+        for (int c = 0; c < channels; ++c)
+            error += sqr(sums[k][size_t(c)] / weights[k] - mean.at(x, y, c));
+        risks[k] = float(error + variance * (2.0 / weights[k] - 1.0));
+    }
+    return risks;
+}
+
 }  // namespace
 
 float correctionFilterSigma(float sigmaAtOneSample, double samplesPerPixel) {
@@ -53,37 +183,47 @@ float correctionFilterSigma(float sigmaAtOneSample, double samplesPerPixel) {
 Image filterCorrection(const Image& image, const FilterGuide& guide, float sigma) {
     if (sigma < kMinimumSigma)
         return image;
+    return filterCorrection(
+        image, guide,
+        std::vector<float>(static_cast<size_t>(image.width()) * image.height(), sigma));
+}
+
+Image filterCorrection(const Image& image, const FilterGuide& guide,
+                       const std::vector<float>& widths) {
     const int width = image.width(), height = image.height(), channels = image.channels();
-    const int reach = static_cast<int>(std::ceil(2.0f * sigma));
-    const float spatial = -0.5f / (sigma * sigma);
-    // The guide's normals made unit once, not once per neighbour.
-    std::vector<Vec3> normals(static_cast<size_t>(width) * height);
-    for (int y = 0; y < height; ++y)
-        for (int x = 0; x < width; ++x)
-            normals[static_cast<size_t>(y) * width + x] = unitNormal(guide.normal, x, y);
+    const SurfaceLikeness likeness(guide);
+    // One window per distinct width (chooseFilterWidths gives a few).
+    std::vector<std::pair<float, GaussianWindow>> windows;
+    for (const float sigma : widths) {
+        if (sigma >= kMinimumSigma &&
+            std::none_of(windows.begin(), windows.end(),
+                         [sigma](const auto& w) { return w.first == sigma; }))
+            windows.emplace_back(sigma, GaussianWindow(sigma, reachOf(sigma)));
+    }
     Image filtered(width, height, image.channelNames());
     tbb::parallel_for(tbb::blocked_range<int>(0, height), [&](const tbb::blocked_range<int>& rows) {
         std::vector<double> sum(static_cast<size_t>(channels));
         for (int y = rows.begin(); y < rows.end(); ++y) {
             for (int x = 0; x < width; ++x) {
-                const Vec3& n = normals[static_cast<size_t>(y) * width + x];
-                const float z = guide.depth.at(x, y, 0);
-                const Vec3 a = pixel3(guide.albedo, x, y);
+                const float sigma = widths[static_cast<size_t>(y) * width + x];
+                if (sigma < kMinimumSigma) {
+                    for (int c = 0; c < channels; ++c)
+                        filtered.at(x, y, c) = image.at(x, y, c);
+                    continue;
+                }
+                const GaussianWindow& window =
+                    std::find_if(windows.begin(), windows.end(), [sigma](const auto& w) {
+                        return w.first == sigma;
+                    })->second;
+                const int reach = window.reach();
                 std::fill(sum.begin(), sum.end(), 0.0);
                 double weightSum = 0.0;
                 for (int qy = std::max(y - reach, 0); qy <= std::min(y + reach, height - 1); ++qy) {
                     for (int qx = std::max(x - reach, 0); qx <= std::min(x + reach, width - 1);
                          ++qx) {
-                        const float d2 = float(sqr(qx - x) + sqr(qy - y));
-                        const float angleGap =
-                            normalGap(n, normals[static_cast<size_t>(qy) * width + qx]);
-                        const float depthGap =
-                            std::abs(guide.depth.at(qx, qy, 0) - z) /
-                            (kDepthScale * std::max(z, 1e-6f) * std::max(std::sqrt(d2), 1.0f));
-                        const float albedoGap =
-                            maxComponent(glm::abs(pixel3(guide.albedo, qx, qy) - a)) / kAlbedoScale;
-                        const float w = std::exp(d2 * spatial - angleGap / kNormalScale - depthGap -
-                                                 sqr(albedoGap));
+                        const int dx = qx - x, dy = qy - y;
+                        const float w =
+                            likeness(x, y, qx, qy, window.distance(dx, dy)) * window.weight(dx, dy);
                         weightSum += w;
                         for (int c = 0; c < channels; ++c)
                             sum[size_t(c)] += double(w) * image.at(qx, qy, c);
@@ -96,6 +236,61 @@ Image filterCorrection(const Image& image, const FilterGuide& guide, float sigma
         }
     });
     return filtered;
+}
+
+std::vector<float> chooseFilterWidths(const NoisyImage& image, const FilterGuide& guide,
+                                      float sigma) {
+    const int width = image.mean.width(), height = image.mean.height();
+    const size_t pixels = static_cast<size_t>(width) * height;
+    std::vector<float> chosen(pixels, sigma);
+    if (sigma < kMinimumSigma)
+        return chosen;
+    const Candidates widths = candidateWidths(sigma);
+    const int reach = reachOf(widths.back());
+    const std::array<GaussianWindow, kCandidates> windows{
+        GaussianWindow(widths[0], reach), GaussianWindow(widths[1], reach),
+        GaussianWindow(widths[2], reach), GaussianWindow(widths[3], reach)};
+    const SurfaceLikeness likeness(guide);
+    std::vector<Candidates> risks(pixels, Candidates{NAN, NAN, NAN, NAN});
+    tbb::parallel_for(tbb::blocked_range<int>(0, height), [&](const tbb::blocked_range<int>& rows) {
+        for (int y = rows.begin(); y < rows.end(); ++y)
+            for (int x = 0; x < width; ++x)
+                risks[static_cast<size_t>(y) * width + x] =
+                    pixelRisks(image, likeness, windows, x, y);
+    });
+    // Each pixel's risks averaged over its surface (the widest candidate's filter, over the
+    // pixels whose variance is known), then the least; ties keep sigma.
+    const GaussianWindow& smoothing = windows.back();
+    tbb::parallel_for(tbb::blocked_range<int>(0, height), [&](const tbb::blocked_range<int>& rows) {
+        for (int y = rows.begin(); y < rows.end(); ++y) {
+            for (int x = 0; x < width; ++x) {
+                std::array<double, kCandidates> mean{};
+                double weightSum = 0.0;
+                for (int qy = std::max(y - reach, 0); qy <= std::min(y + reach, height - 1); ++qy) {
+                    for (int qx = std::max(x - reach, 0); qx <= std::min(x + reach, width - 1);
+                         ++qx) {
+                        const Candidates& r = risks[static_cast<size_t>(qy) * width + qx];
+                        if (std::isnan(r[0]))
+                            continue;
+                        const int dx = qx - x, dy = qy - y;
+                        const double w = likeness(x, y, qx, qy, smoothing.distance(dx, dy)) *
+                                         smoothing.weight(dx, dy);
+                        weightSum += w;
+                        for (size_t k = 0; k < kCandidates; ++k)
+                            mean[k] += w * r[k];
+                    }
+                }
+                if (!(weightSum > 0.0))
+                    continue;  // no estimate near: sigma
+                size_t best = kDefaultCandidate;
+                for (size_t k = 0; k < kCandidates; ++k)
+                    if (mean[k] < mean[best])
+                        best = k;
+                chosen[static_cast<size_t>(y) * width + x] = widths[best];
+            }
+        }
+    });
+    return chosen;
 }
 
 }  // namespace penumbra

@@ -106,6 +106,7 @@ std::vector<AovSpec> ImageRenderer::filmLayers() {
         return static_cast<int>(layers.size()) - 1;
     };
     correctionLayer_ = addLayer({"correction"});
+    correctionSquaredLayer_ = addLayer({"correction_squared"});
     for (const int component : aovComponents_)
         componentCorrectionLayers_.push_back(component >= 0 ? addLayer({"correction"}) : -1);
     // The filter's guide: the first diffuse vertex's features (FirstHit::firstDiffuse).
@@ -119,13 +120,41 @@ float ImageRenderer::correctionSigma() const {
     return correctionSigma_ > 0.0f ? correctionFilterSigma(correctionSigma_, samplesDone_) : 0.0f;
 }
 
+const ImageRenderer::CorrectionReconstruction& ImageRenderer::correctionReconstruction() const {
+    if (reconstruction_ && reconstruction_->samplesTaken == samplesTaken_)
+        return *reconstruction_;
+    auto r = std::make_unique<CorrectionReconstruction>(
+        CorrectionReconstruction{film_.resolveAov(normalLayer_),
+                                 film_.resolveAov(depthLayer_),
+                                 film_.resolveAov(albedoLayer_),
+                                 {},
+                                 samplesTaken_});
+    // The variance of each pixel's mean correction: the sample variance over n - 1 samples
+    // (unbiased), over n; unknown (negative) below two samples.
+    const Image mean = film_.resolveAov(correctionLayer_);
+    const Image meanSquare = film_.resolveAov(correctionSquaredLayer_);
+    Image variance(mean.width(), mean.height(), mean.channelNames());
+    for (int y = 0; y < mean.height(); ++y) {
+        for (int x = 0; x < mean.width(); ++x) {
+            const double n = film_.sampleCount({x, y});
+            for (int c = 0; c < mean.channels(); ++c) {
+                const double spread =
+                    double(meanSquare.at(x, y, c)) - sqr(double(mean.at(x, y, c)));
+                variance.at(x, y, c) = n >= 2.0 ? float(std::max(spread, 0.0) / (n - 1.0)) : -1.0f;
+            }
+        }
+    }
+    r->widths = chooseFilterWidths(NoisyImage{mean, variance},
+                                   FilterGuide{r->normal, r->depth, r->albedo}, correctionSigma());
+    reconstruction_ = std::move(r);
+    return *reconstruction_;
+}
+
 Image ImageRenderer::withReconstructedCorrection(Image image, int correctionLayer) const {
+    const CorrectionReconstruction& r = correctionReconstruction();
     const Image correction = film_.resolveAov(correctionLayer);
-    const Image normal = film_.resolveAov(normalLayer_);
-    const Image depth = film_.resolveAov(depthLayer_);
-    const Image albedo = film_.resolveAov(albedoLayer_);
     const Image reconstructed =
-        filterCorrection(correction, FilterGuide{normal, depth, albedo}, correctionSigma());
+        filterCorrection(correction, FilterGuide{r.normal, r.depth, r.albedo}, r.widths);
     const std::span<float> out = image.pixels();
     const std::span<const float> raw = correction.pixels(), smooth = reconstructed.pixels();
     for (size_t i = 0; i < out.size(); ++i)
@@ -134,7 +163,9 @@ Image ImageRenderer::withReconstructedCorrection(Image image, int correctionLaye
 }
 
 void ImageRenderer::addCorrection(IVec2 pixel, const PathRadiance& L, const FirstHit& firstHit) {
-    film_.addAov(pixel, correctionLayer_, L.correction());
+    const Color correction = L.correction();
+    film_.addAov(pixel, correctionLayer_, correction);
+    film_.addAov(pixel, correctionSquaredLayer_, correction * correction);
     for (size_t a = 0; a < aovNames_.size(); ++a) {
         if (componentCorrectionLayers_[a] >= 0)
             film_.addAov(pixel, componentCorrectionLayers_[a],

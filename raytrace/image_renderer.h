@@ -31,7 +31,8 @@ class ImageRenderer {
     // The camera and the settings are referred to, not copied: they must outlive the renderer.
     // correctionSigma > 0: the estimator's corrections (PathRadiance::corrections) are kept
     // apart and reconstructed with filterCorrection() (raytrace/correction_filter.h), of this
-    // width in pixels at one sample per pixel; 0: they stay in the image as they are.
+    // width in pixels at one sample per pixel, each pixel's width then chosen around it by
+    // chooseFilterWidths(); 0: they stay in the image as they are.
     ImageRenderer(const Camera& camera, const RenderSettings& settings, RadianceEstimator estimator,
                   float correctionSigma = 0.0f);
 
@@ -59,6 +60,15 @@ class ImageRenderer {
     const std::vector<std::string>& aovNames() const { return aovNames_; }
 
   private:
+    // What reconstructs the correction layers after the samples taken so far: the filter's guide
+    // and each pixel's width, chosen from the correction's sum (chooseFilterWidths) and applied
+    // to its share of each component too, so the components still sum to the image.
+    struct CorrectionReconstruction {
+        Image normal, depth, albedo;
+        std::vector<float> widths;
+        uint64_t samplesTaken = 0;
+    };
+    const CorrectionReconstruction& correctionReconstruction() const;
     // The per-pixel mean of film layer `layer`, minus its correction's mean plus the
     // correction's reconstruction (correctionLayer: its film layer).
     Image withReconstructedCorrection(Image image, int correctionLayer) const;
@@ -76,11 +86,15 @@ class ImageRenderer {
     std::vector<int> aovComponents_;  // per AOV: its PathComponent, or -1 for a first-hit AOV
     float correctionSigma_;
     // Film layers past the user's AOVs, with a correction kept apart: the correction's sum over
-    // the components, its share of each component AOV (per AOV, or -1), and the filter's guide
-    // (the first diffuse vertex's features: FirstHit::firstDiffuse).
-    int correctionLayer_ = -1;
+    // the components and its square (for the variance of its mean), its share of each component
+    // AOV (per AOV, or -1), and the filter's guide (the first diffuse vertex's features:
+    // FirstHit::firstDiffuse).
+    int correctionLayer_ = -1, correctionSquaredLayer_ = -1;
     std::vector<int> componentCorrectionLayers_;
     int normalLayer_ = -1, depthLayer_ = -1, albedoLayer_ = -1;
+    // The last reconstruction, kept while no sample is added: resolve() and each component's
+    // resolveAov() share it (so those calls must not run concurrently).
+    mutable std::unique_ptr<CorrectionReconstruction> reconstruction_;
     Film film_;
     std::vector<uint8_t> converged_;  // per pixel: no more samples (adaptive sampling)
     size_t activePixels_;

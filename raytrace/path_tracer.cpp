@@ -151,14 +151,6 @@ PathRadiance PathTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHit,
     bool lastDiffuseHeldCaustics = false;
     bool firstVertexSpecular = false;  // the lobe the first vertex was left through was a delta
     float pathLength = 0.0f;           // from the camera to the current vertex, metres
-    // Whether the correction is returned for the image's filter (PathRadiance::corrections): not
-    // when the first non-delta vertex was left through a glossy lobe. The filter averages the
-    // correction over pixels that see the same surface, right where the light that surface
-    // reflects varies slowly across it, as its Lambertian layer's does; a glossy lobe reflects
-    // what it sees sharply (the bright line a lamp's edge draws on a polished floor) and the
-    // filter would smear it. Which part is filtered changes no expectation: the choice is made
-    // per path, and the filter keeps each layer's mean but for its blur.
-    bool correctionFiltered = true;
 
     // Adds radiance `value` reaching the eye as `component`, weighted by the base and
     // correction weights.
@@ -166,8 +158,7 @@ PathRadiance PathTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHit,
                          const Color& correctionWeight, const Color& value) {
         const Color fromCorrection = correctionWeight * value;
         L[component] += baseWeight * value + fromCorrection;
-        if (correctionFiltered)
-            L.corrections[static_cast<size_t>(component)] += fromCorrection;
+        L.corrections[static_cast<size_t>(component)] += fromCorrection;
     };
 
     while (true) {
@@ -311,11 +302,8 @@ PathRadiance PathTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHit,
         if (bs->isDelta()) {
             specularAfterDiffuse = diffuseVertices > 0;
         } else {
-            if (diffuseVertices == 0) {
-                correctionFiltered = (bs->lobe & kLobeGlossy) == 0;
-                if (firstHit && q > 0.0f)
-                    recordSurfaceGuide(scene_, *hit, bsdf, pathLength, firstHit->firstDiffuse);
-            }
+            if (diffuseVertices == 0 && firstHit && q > 0.0f)
+                recordSurfaceGuide(scene_, *hit, bsdf, pathLength, firstHit->firstDiffuse);
             ++diffuseVertices;
             specularAfterDiffuse = false;
             lastDiffuseHeldCaustics = reuseHere && settings_.causticsAtReuse;

@@ -203,11 +203,11 @@ TEST_P(CorrectedReuseOnPlastic, MatchesThePathTracer) {
 INSTANTIATE_TEST_SUITE_P(Coat, CorrectedReuseOnPlastic, ::testing::Values(0.0f, 0.3f));
 
 // The correction PathRadiance::corrections returns is what the image's filter averages over
-// neighbouring pixels: only where the eye's first non-delta vertex was left through the
-// Lambertian layer, whose reflected light varies slowly over the surface. Seen in a rough metal
-// floor (glossy lobes only) the correction stays in the path's own estimate, which is still the
-// path tracer's; seen on a Lambertian floor, it goes to the filter.
-TEST(CorrectedReuse, OnlyALambertianFirstVertexFiltersItsCorrection) {
+// neighbouring pixels, whichever lobe the eye's first non-delta vertex was left through: a rough
+// metal floor (glossy lobes only) hands its correction to the filter as a Lambertian floor does
+// (the filter's width per pixel keeps a sharp reflection sharp: correction_filter.h), and the
+// path's estimate is still the path tracer's.
+TEST(CorrectedReuse, EveryFirstVertexHandsItsCorrectionToTheFilter) {
     const auto box = [](bool metalFloor) {
         GltfBuilder builder;
         const int wall = builder.addMaterial(
@@ -232,13 +232,13 @@ TEST(CorrectedReuse, OnlyALambertianFirstVertexFiltersItsCorrection) {
     std::printf("metal floor: corrected %.5f +- %.5f, path tracer %.5f +- %.5f\n",
                 corrected.total.mean(), corrected.total.standardError(), pathTracer.total.mean(),
                 pathTracer.total.standardError());
-    EXPECT_EQ(corrected.pathsWithFilteredCorrection, 0);
+    EXPECT_GT(corrected.pathsWithFilteredCorrection, n / 3);  // q = 0.5
     const double error =
         std::hypot(corrected.total.standardError(), pathTracer.total.standardError());
     EXPECT_NEAR(corrected.total.mean(), pathTracer.total.mean(), kStandardErrors * error);
     EXPECT_LT(error, kMaxRelativeStandardError * pathTracer.total.mean());
 
-    // The control: on the Lambertian floor half the paths (q = 0.5) correct, all filtered.
+    // On the Lambertian floor as well.
     const std::unique_ptr<Scene> matte = box(false);
     const Estimates filtered = tracePaths(*matte, reuse(0.5f), &none, towardsTheFloor, n);
     EXPECT_GT(filtered.pathsWithFilteredCorrection, n / 3);
