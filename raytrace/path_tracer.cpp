@@ -5,8 +5,6 @@
 #include "raytrace/direct_light.h"
 #include "raytrace/tracing_steps.h"
 
-#include <optional>
-
 namespace penumbra {
 
 namespace {
@@ -153,9 +151,6 @@ PathRadiance PathTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHit,
     bool lastDiffuseHeldCaustics = false;
     bool firstVertexSpecular = false;  // the lobe the first vertex was left through was a delta
     float pathLength = 0.0f;           // from the camera to the current vertex, metres
-    // The solution's own value of the indirect light the first vertex reflects, the control
-    // variate of the path's indirect component (see the end).
-    std::optional<Color> predictedIndirect;
 
     // Adds radiance `value` reaching the eye as `component`, weighted by the base and
     // correction weights.
@@ -206,8 +201,6 @@ PathRadiance PathTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHit,
             continue;
         }
         recordFirstHit(scene_, *hit, bsdf, cameraOrigin, firstHit);
-        if (depth == 0 && q > 0.0f && radiosity_ && bsdf.hasNonDeltaLobe())
-            predictedIndirect = w.unheld * radiosity_->indirect(*hit, glm::dot(wo, hit->ng) > 0.0f);
 
         if (settings_.maxDepth >= 0 && depth >= settings_.maxDepth)
             break;
@@ -333,20 +326,6 @@ PathRadiance PathTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHit,
                 break;
             w /= 1.0f - rr;
         }
-    }
-    // What the image's filter takes of a path seen first on a non-specular surface: its whole
-    // indirect component less the solution's own value of it at that surface, P. The image is
-    // the per-pixel mean of the rest plus the filtered mean of that difference, so P is a
-    // control variate whose known part, P itself, comes noise-free (Rousselle, Jarosz and Novák
-    // 2016, "Image-space Control Variates for Rendering", with the radiosity view's indirect
-    // light as the control); the path's own estimate is unchanged, so the image converges to
-    // the path tracer's whatever P, as the filter narrows. The difference is smooth where the
-    // solution is right up to a smooth error, and the noise of the one-bounce gather at the
-    // reuse vertex, which the correction leaves in the image otherwise, goes through the
-    // filter too.
-    if (predictedIndirect) {
-        const size_t indirect = static_cast<size_t>(PathComponent::Indirect);
-        L.corrections[indirect] = L.components[indirect] - *predictedIndirect;
     }
     return L;
 }

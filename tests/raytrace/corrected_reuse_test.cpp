@@ -5,7 +5,7 @@
 // still converges to L, at any continuation probability; the uncorrected one gives exactly what
 // the wrong solution implies, and the correction it reports apart is the difference. Then the
 // same against the path tracer in a mirror room and with plastic walls, and which part of the
-// path goes to the image's filter.
+// correction goes to the image's filter.
 #include "core/path_components.h"
 #include "core/sampler.h"
 #include "core/scene.h"
@@ -136,30 +136,6 @@ INSTANTIATE_TEST_SUITE_P(Furnace, CorrectedReuse,
                          [](const ::testing::TestParamInfo<Case>& info) {
                              return std::string(info.param.name);
                          });
-
-// The image's filter takes the whole indirect component less the solution's own value of it at
-// the first vertex (the control variate P, PathTracer::Li): what stays out of the filter is P
-// exactly, with no noise of its own, and what goes in still averages to rho (the true reflected
-// radiance - S), as the correction alone did.
-TEST(CorrectedReuse, LeavesTheSolutionsIndirectLightOutOfTheFilterExactly) {
-    const std::unique_ptr<Scene> scene = furnaceBox();
-    const float solution = 3.0f * float(kReflected);
-    const ConstantSolution wrong(solution);
-    const PathTracer tracer(*scene, reuse(0.5f), &wrong);
-    Sampler sampler(23);
-    PathCounters counters;
-    constexpr size_t kIndirect = static_cast<size_t>(PathComponent::Indirect);
-    Estimate filtered;
-    for (int i = 0; i < 4096; ++i) {
-        sampler.startPixelSample(IVec2(i % 64, i / 64), 0);
-        const PathRadiance L = tracer.Li(kFurnaceRay, sampler, nullptr, counters);
-        const Color unfiltered = L.components[kIndirect] - L.corrections[kIndirect];
-        ASSERT_NEAR(unfiltered.g, kRho * solution, 1e-4f * solution) << "path " << i;
-        filtered.add(L.corrections[kIndirect].g);
-    }
-    EXPECT_NEAR(filtered.mean(), kRho * (kReflected - solution),
-                kStandardErrors * filtered.standardError());
-}
 
 // A closed room lit mostly through a mirror (addMirrorRoom, as tests/passes/
 // indirect_caustics_test.cpp): most of the room's light has passed the mirror, which a solution
