@@ -59,14 +59,15 @@ struct NoisyImage {
 // cross-bilateral filters per pixel: SURE_i = |F(y)_i - y_i|^2 + 2 v_i dF_i/dy_i - v_i, where
 // dF_i/dy_i = 1 / (the pixel's sum of weights). One pixel's estimate is itself noisy, so it is
 // averaged over the pixel's surface with the widest candidate's filter before the choice (with
-// sigma's instead, noise over a constant took the widest width in 83 % of the pixels, not 94 %,
-// and the hybrid's relMSE on the modern hall at 256 spp was 5 % higher). Every
+// sigma's instead, noise over a constant took the widest width in 82 % of the interior pixels,
+// not 94 %, and the hybrid's relMSE on the modern hall at 256 spp was 3-5 % higher). Every
 // candidate is a fixed multiple of sigma, so the widths still vanish as sigma does (the image
 // stays consistent). A pixel with no known variance near it keeps sigma.
 std::vector<float> chooseFilterWidths(const NoisyImage& image, const FilterGuide& guide,
                                       float sigma);
-// The widest of the candidates above when sigma is narrower than it: today's width at one sample
-// per pixel (PathPass's correction_sigma), so a wider choice costs no more than the first pass's.
+// The widest of the candidates above when sigma is narrower than it: the default width at one
+// sample per pixel (PathPass's correction_sigma), so a wider choice costs no more per pixel than
+// the default filter after the first sample.
 constexpr float kWidestChosenSigma = 8.0f;
 
 }  // namespace penumbra
