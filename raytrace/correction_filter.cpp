@@ -119,6 +119,20 @@ class GaussianWindow {
     std::vector<float> weights_, distances_;
 };
 
+// Calls visit(qx, qy, w) for each pixel of `window` around (x, y) inside the image, w being the
+// window's Gaussian times how alike the two surfaces are: the weight of a cross-bilateral filter.
+template <typename Visit>
+void forEachNeighbour(int x, int y, int width, int height, const GaussianWindow& window,
+                      const SurfaceLikeness& likeness, Visit visit) {
+    const int reach = window.reach();
+    for (int qy = std::max(y - reach, 0); qy <= std::min(y + reach, height - 1); ++qy) {
+        for (int qx = std::max(x - reach, 0); qx <= std::min(x + reach, width - 1); ++qx) {
+            const int dx = qx - x, dy = qy - y;
+            visit(qx, qy, likeness(x, y, qx, qy, window.distance(dx, dy)) * window.weight(dx, dy));
+        }
+    }
+}
+
 // The candidate widths of chooseFilterWidths, narrowest first.
 constexpr int kCandidates = 4;
 constexpr int kDefaultCandidate = 2;  // sigma itself
@@ -215,20 +229,14 @@ Image filterCorrection(const Image& image, const FilterGuide& guide,
                     std::find_if(windows.begin(), windows.end(), [sigma](const auto& w) {
                         return w.first == sigma;
                     })->second;
-                const int reach = window.reach();
                 std::fill(sum.begin(), sum.end(), 0.0);
                 double weightSum = 0.0;
-                for (int qy = std::max(y - reach, 0); qy <= std::min(y + reach, height - 1); ++qy) {
-                    for (int qx = std::max(x - reach, 0); qx <= std::min(x + reach, width - 1);
-                         ++qx) {
-                        const int dx = qx - x, dy = qy - y;
-                        const float w =
-                            likeness(x, y, qx, qy, window.distance(dx, dy)) * window.weight(dx, dy);
-                        weightSum += w;
-                        for (int c = 0; c < channels; ++c)
-                            sum[size_t(c)] += double(w) * image.at(qx, qy, c);
-                    }
-                }
+                forEachNeighbour(x, y, width, height, window, likeness,
+                                 [&](int qx, int qy, float w) {
+                                     weightSum += w;
+                                     for (int c = 0; c < channels; ++c)
+                                         sum[size_t(c)] += double(w) * image.at(qx, qy, c);
+                                 });
                 // weightSum >= 1: the pixel itself (d2 0, no gap) weighs exp(0).
                 for (int c = 0; c < channels; ++c)
                     filtered.at(x, y, c) = float(sum[size_t(c)] / weightSum);
@@ -266,20 +274,15 @@ std::vector<float> chooseFilterWidths(const NoisyImage& image, const FilterGuide
             for (int x = 0; x < width; ++x) {
                 std::array<double, kCandidates> mean{};
                 double weightSum = 0.0;
-                for (int qy = std::max(y - reach, 0); qy <= std::min(y + reach, height - 1); ++qy) {
-                    for (int qx = std::max(x - reach, 0); qx <= std::min(x + reach, width - 1);
-                         ++qx) {
+                forEachNeighbour(
+                    x, y, width, height, smoothing, likeness, [&](int qx, int qy, float w) {
                         const Candidates& r = risks[static_cast<size_t>(qy) * width + qx];
                         if (std::isnan(r[0]))
-                            continue;
-                        const int dx = qx - x, dy = qy - y;
-                        const double w = likeness(x, y, qx, qy, smoothing.distance(dx, dy)) *
-                                         smoothing.weight(dx, dy);
+                            return;
                         weightSum += w;
                         for (size_t k = 0; k < kCandidates; ++k)
-                            mean[k] += w * r[k];
-                    }
-                }
+                            mean[k] += double(w) * r[k];
+                    });
                 if (!(weightSum > 0.0))
                     continue;  // no estimate near: sigma
                 size_t best = kDefaultCandidate;
