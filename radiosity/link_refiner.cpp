@@ -11,7 +11,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <unordered_map>
 #include <utility>
 
 namespace penumbra {
@@ -172,18 +171,25 @@ void LinkRefiner::refine(std::vector<RefinePair> batch, std::vector<PendingLink>
     }
 }
 
-// A slice of one level's pairs of refine(): their kernel samples in parallel, then the decisions
-// in order.
+// A slice of one level's pairs of refine(): their kernel samples (a cluster pair's kernel) in
+// parallel, then the decisions in order.
 void LinkRefiner::refineSlice(std::span<const RefinePair> batch, std::vector<RefinePair>& next,
                               std::vector<PendingLink>& pending) {
     if (progress_)
         progress_->advance(batch.size());  // the oracle's stage counts the pairs it examines
     std::vector<KernelSamples> samples(batch.size());
+    std::vector<ClusterKernel> clusterKernels(batch.size());
     std::vector<char> interacts(batch.size(), 0);
     tbb::parallel_for(size_t(0), batch.size(), [&](size_t i) {
         const RefinePair& p = batch[i];
-        if (isCluster(p.receiver) || isCluster(p.source) ||
-            !transfer_.mayInteract(p.receiver, p.source))
+        if (isCluster(p.receiver) || isCluster(p.source)) {
+            if (p.receiver != p.source && transfer_.mayInteractWithCluster(p.receiver, p.source)) {
+                interacts[i] = 1;
+                clusterKernels[i] = transfer_.clusterKernel(p.receiver, p.source);
+            }
+            return;
+        }
+        if (!transfer_.mayInteract(p.receiver, p.source))
             return;
         interacts[i] = 1;
         samples[i] = transfer_.kernelSamples(p.receiver, p.source);
@@ -191,7 +197,8 @@ void LinkRefiner::refineSlice(std::span<const RefinePair> batch, std::vector<Ref
     for (size_t i = 0; i < batch.size(); ++i) {
         const RefinePair& p = batch[i];
         if (isCluster(p.receiver) || isCluster(p.source)) {
-            refineClusterPair(p.receiver, p.source, next, pending);
+            if (p.receiver == p.source || interacts[i])
+                refineClusterPair(p.receiver, p.source, clusterKernels[i], next, pending);
             continue;
         }
         if (!interacts[i])
@@ -253,32 +260,13 @@ bool LinkRefiner::smallTransfer(int source, float Fmax) const {
 void LinkRefiner::evaluateLinks(const std::vector<PendingLink>& pending, const std::string& step) {
     const auto start = std::chrono::steady_clock::now();
     const size_t n = pending.size();
-    // Pair each link with its reverse, if pending too.
-    std::vector<int> reverse(n, -1);
-    std::vector<char> primary(n, 1);
-    {
-        const auto key = [](int r, int s) {
-            return (static_cast<uint64_t>(static_cast<uint32_t>(r)) << 32) |
-                   static_cast<uint32_t>(s);
-        };
-        std::unordered_map<uint64_t, int> seen;
-        seen.reserve(n);
-        // A partly covered end makes the two directions' transfers differ (visibility,
-        // exposedFormFactor).
-        for (size_t i = 0; i < n; ++i) {
-            if (exposure_.partlyCovered(pending[i].receiver) ||
-                exposure_.partlyCovered(pending[i].source))
-                continue;
-            const auto it = seen.find(key(pending[i].source, pending[i].receiver));
-            if (it != seen.end() && reverse[static_cast<size_t>(it->second)] < 0) {
-                reverse[static_cast<size_t>(it->second)] = static_cast<int>(i);
-                reverse[i] = it->second;
-                primary[i] = 0;
-            } else {
-                seen.emplace(key(pending[i].receiver, pending[i].source), static_cast<int>(i));
-            }
-        }
-    }
+    // Pair each link with its reverse, if pending too. A partly covered end makes the two
+    // directions' transfers differ (visibility, exposedFormFactor).
+    const ReversePairs pairs = pairReverses(pending, [&](const PendingLink& p) {
+        return !exposure_.partlyCovered(p.receiver) && !exposure_.partlyCovered(p.source);
+    });
+    const std::vector<int>& reverse = pairs.reverse;
+    const std::vector<char>& primary = pairs.primary;
     const auto isClusterLink = [&](size_t i) {
         return isCluster(pending[i].receiver) || isCluster(pending[i].source);
     };
@@ -369,18 +357,17 @@ void LinkRefiner::evaluateLinks(const std::vector<PendingLink>& pending, const s
         abandoned_ = true;
         return;
     }
-    // The links, each from its own receiver's samples.
-    std::vector<Link> evaluated(n);
-    tbb::parallel_for(size_t(0), n, [&](size_t i) {
+    // The links that carry light, each from its own receiver's samples, appended to their
+    // receivers' lists in the order of `pending` (the gather's sums, and so the solution, do not
+    // depend on the thread count): grouped by receiver, each receiver's list filled by one task.
+    const auto makeLink = [&](size_t i) {
         const PendingLink& p = pending[i];
-        Link& link = evaluated[i];
+        Link link;
         link.source = p.source;
         link.F = F[i];
         link.Fmax = Fmax[i];
         link.K = F[i] * V[i];
         link.childV = childV[i];
-        if (!(link.F > 0.0f))
-            return;
         if (isClusterLink(i)) {
             // The oracle's error of a cluster link, on both sides (clusterKernel); a receiving
             // cluster keeps the direction towards the source for its directional push.
@@ -388,20 +375,26 @@ void LinkRefiner::evaluateLinks(const std::vector<PendingLink>& pending, const s
             const Vec3 toward = transfer_.nodeCenter(p.source) - transfer_.nodeCenter(p.receiver);
             if (isCluster(p.receiver) && glm::dot(toward, toward) > 0.0f)
                 link.g = glm::normalize(toward);
-            return;
+            return link;
         }
         if (glm::min(V[i].r, glm::min(V[i].g, V[i].b)) < 1.0f) {
             link.spread = link.Fmax;
-            return;
+            return link;
         }
         float limiter = 1.0f;
         link.g = transfer_.linearModel(p.receiver, p.samples, link.F, limiter);
         link.spread = p.samples.spread(limiter);
+        return link;
+    };
+    const ReceiverGroups groups(pending,
+                                [&](size_t i) { return maxComponent(F[i] * V[i]) > 0.0f; });
+    tbb::parallel_for(size_t(0), groups.size(), [&](size_t g) {
+        const std::span<const uint32_t> members = groups.members(g);
+        std::vector<Link>& links = links_.linksOf(pending[members.front()].receiver);
+        links.reserve(links.size() + members.size());
+        for (const uint32_t i : members)
+            links.push_back(makeLink(i));
     });
-    for (size_t i = 0; i < n; ++i) {
-        if (maxComponent(evaluated[i].K) > 0.0f)
-            links_.linksOf(pending[i].receiver).push_back(evaluated[i]);
-    }
     rays_ += rays.combine(std::plus<uint64_t>());
     secondsLinks_ += secondsSince(start);
 }
@@ -459,7 +452,10 @@ std::vector<int> LinkRefiner::nodeChildren(int n) {
 // under the threshold; otherwise the larger of the two (by bounding radius, HSA91's choice) is
 // replaced by its children, down to pairs of elements, which refine() takes over. A cluster's
 // self-pair is all pairs of its children, self-pairs included. The pairs of children go to `next`.
-void LinkRefiner::refineClusterPair(int receiver, int source, std::vector<RefinePair>& next,
+// Called for a self-pair and for a pair that may interact (mayInteractWithCluster), with its
+// clusterKernel `k`.
+void LinkRefiner::refineClusterPair(int receiver, int source, const ClusterKernel& k,
+                                    std::vector<RefinePair>& next,
                                     std::vector<PendingLink>& pending) {
     if (receiver == source) {
         const std::vector<int> c = nodeChildren(receiver);
@@ -469,13 +465,10 @@ void LinkRefiner::refineClusterPair(int receiver, int source, std::vector<Refine
         }
         return;
     }
-    if (!transfer_.mayInteractWithCluster(receiver, source))
-        return;
     // An emitting cluster is never a source: the isotropic model would send the light of a lamp
     // facing down to the ceiling as much as to the floor. Emitters shine through their elements,
     // with their orientation (to clusters of receivers, though).
     const bool emittingSource = isCluster(source) && (*clusters_)[cluster(source)].emits;
-    const ClusterKernel k = transfer_.clusterKernel(receiver, source);
     // The same oracle as refineLinks() applies, or a link it takes out for its receiver's sake
     // would come back unchanged every round.
     if (k.linkable && !emittingSource) {

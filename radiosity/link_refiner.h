@@ -12,6 +12,7 @@
 #include "radiosity/element_exposure.h"
 #include "radiosity/link_hierarchy.h"
 #include "radiosity/link_transfer.h"
+#include "radiosity/pending_links.h"
 #include "radiosity/radiance_hierarchy.h"
 #include "radiosity/radiosity_mesh.h"
 #include "radiosity/radiosity_settings.h"
@@ -31,10 +32,6 @@ namespace penumbra {
 struct RefinePair {
     int receiver, source;
     float spread = -1.0f;
-};
-struct PendingLink {
-    int receiver, source;
-    KernelSamples samples;
 };
 struct LinkErrors {
     double receiver, source;
@@ -94,8 +91,8 @@ class LinkRefiner {
     void finishSplits();
     bool canSplitNode(int node) const;
     std::vector<int> nodeChildren(int node);
-    void refineClusterPair(int receiver, int source, std::vector<RefinePair>& next,
-                           std::vector<PendingLink>& pending);
+    void refineClusterPair(int receiver, int source, const ClusterKernel& k,
+                           std::vector<RefinePair>& next, std::vector<PendingLink>& pending);
     void refine(std::vector<RefinePair> batch, std::vector<PendingLink>& pending);
     void refineSlice(std::span<const RefinePair> batch, std::vector<RefinePair>& next,
                      std::vector<PendingLink>& pending);
