@@ -284,9 +284,19 @@ void LinkRefiner::evaluateLinks(const std::vector<PendingLink>& pending, const s
     }
     tbb::combinable<uint64_t> rays([] { return uint64_t(0); });
     // Once the deadline has passed, abandoned (no link is made) or, between chunks, made
-    // coarser: the links after take their visibility adaptively.
+    // coarser: the links after take their visibility adaptively. A solve that may be abandoned
+    // is abandoned as soon as the links evaluated so far say the rest will not be done by the
+    // deadline, so that the time goes to the pass that traces without it.
     const bool mayAbandon = linking_ && onTimeUp_ == OnTimeUp::Abandon;
-    const auto late = [this, mayAbandon] { return timeIsUp() && mayAbandon; };
+    const auto evaluationStart = std::chrono::steady_clock::now();
+    const auto late = [&](size_t done) {
+        if (timeIsUp())
+            return mayAbandon;
+        const double secondsLeft =
+            std::chrono::duration<double>(*deadline_ - std::chrono::steady_clock::now()).count();
+        return mayAbandon &&
+               projectedToOverrun(secondsSince(evaluationStart), done, n, secondsLeft);
+    };
     const bool complete = parallelForWithProgress(
         n, progress_,
         [&](size_t i) {
@@ -352,7 +362,7 @@ void LinkRefiner::evaluateLinks(const std::vector<PendingLink>& pending, const s
                 childV[static_cast<size_t>(j)] = childV[i].reversed();
             }
         },
-        deadline_ ? std::function<bool()>(late) : nullptr);
+        deadline_ ? std::function<bool(size_t)>(late) : nullptr);
     if (!complete) {
         abandoned_ = true;
         return;

@@ -62,7 +62,8 @@ class LinkRefiner {
     // examines as it stands wherever a link may be made (the oracle allows any error from then
     // on), a coarser solution at the price of the links it has decided; Abandon, during the
     // initial linking, stops and makes no more links (abandoned()), for a caller that can do
-    // without the solution.
+    // without the solution, as soon as the rate of the links' evaluation says they will not all
+    // be made by the deadline.
     enum class OnTimeUp { Coarsen, Abandon };
     void setTimeLimit(Deadline deadline, OnTimeUp onTimeUp);
     bool abandoned() const { return abandoned_; }

@@ -97,6 +97,7 @@ RadiositySettings RadiositySettings::forCorrectedReuse() {
     settings.visibilitySamples = 4;
     settings.maxRefinements = 1;
     settings.finalGatherRays = 0;
+    settings.convergence = 1e-3;
     return settings;
 }
 

@@ -74,4 +74,14 @@ void ConsoleSolveProgress::endStage(const std::string& summary) {
     stage_.clear();
 }
 
+bool projectedToOverrun(double elapsed, size_t done, size_t total, double secondsLeft) {
+    constexpr size_t kShareToJudge = 20;  // one item in this many
+    constexpr double kSecondsToJudge = 0.25;
+    if (done == 0 || done >= total || done * kShareToJudge < total || elapsed < kSecondsToJudge)
+        return false;
+    const double remaining =
+        elapsed * static_cast<double>(total - done) / static_cast<double>(done);
+    return remaining > secondsLeft;
+}
+
 }  // namespace penumbra

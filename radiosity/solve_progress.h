@@ -69,17 +69,24 @@ class ConsoleSolveProgress : public SolveProgress {
     bool counting_ = false;  // a count is on the line; guarded by drawing_
 };
 
+// Whether work of `total` items, `done` of them run in `elapsed` seconds, will still be running
+// `secondsLeft` from now at its mean rate so far. Judged only once a twentieth of the items and a
+// quarter of a second have passed (false before): the first items' rate is noisy (threads
+// starting, a slow first chunk), and a verdict that comes too early may give up work that would
+// have ended in time.
+bool projectedToOverrun(double elapsed, size_t done, size_t total, double secondsLeft);
+
 // Runs body(i) for every i in [0, n) in parallel, in successive chunks of about 1/200 of n, and
 // advances `progress` (if any) by each chunk as it ends: a bar that moves without an atomic
 // operation per item. A chunk is at least 256 items, so that the wait for its last few is small.
-// `stop`, if given, is asked before each chunk: once it says yes, the rest is not run and the
-// function returns false.
+// `stop`, if given, is asked before each chunk with the number of items run so far: once it says
+// yes, the rest is not run and the function returns false.
 template <typename Body>
 bool parallelForWithProgress(size_t n, SolveProgress* progress, const Body& body,
-                             const std::function<bool()>& stop = nullptr) {
+                             const std::function<bool(size_t done)>& stop = nullptr) {
     const size_t chunk = std::max<size_t>(n / 200, 256);
     for (size_t begin = 0; begin < n; begin += chunk) {
-        if (stop && stop())
+        if (stop && stop(begin))
             return false;
         const size_t end = std::min(n, begin + chunk);
         tbb::parallel_for(begin, end, body);

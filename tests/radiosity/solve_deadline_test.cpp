@@ -1,10 +1,12 @@
 // The hierarchical solver under a time limit (RadiositySolver::solve's deadline): a solve whose
 // time is up before it starts still ends with a whole solution, coarser, that keeps the closed
 // furnace's answer; told to abandon, it stops without links; and the hybrid pipeline whose solve
-// is abandoned renders the path tracer's very image, every path traced on.
+// is abandoned renders the path tracer's very image, every path traced on; the rate of a solve's
+// links says early whether they will be made by the deadline.
 #include "core/image_io.h"
 #include "radiosity/radiosity_mesh.h"
 #include "radiosity/radiosity_solver.h"
+#include "radiosity/solve_progress.h"
 #include "tests/support/cli_runner.h"
 #include "tests/support/radiosity_scenes.h"
 
@@ -86,6 +88,20 @@ TEST(SolveDeadline, AbandonsWithoutLinksWhenTold) {
     EXPECT_TRUE(solver.abandoned());
     EXPECT_EQ(solver.linkCount(), 0u);
     EXPECT_EQ(stat(solver, "abandoned_by_time_limit"), "yes");
+}
+
+TEST(SolveDeadline, TheLinksRateSaysWhetherTheyWillBeMadeInTime) {
+    // Half of 1000 links in 1 s: the other half needs about 1 s more.
+    EXPECT_TRUE(projectedToOverrun(1.0, 500, 1000, 0.9));
+    EXPECT_FALSE(projectedToOverrun(1.0, 500, 1000, 1.1));
+    EXPECT_TRUE(projectedToOverrun(0.5, 100, 1000, 4.4));
+    EXPECT_FALSE(projectedToOverrun(0.5, 100, 1000, 4.6));
+    // No verdict before a twentieth of the links, or a quarter of a second, or once all are made.
+    EXPECT_FALSE(projectedToOverrun(1.0, 49, 1000, 0.0));
+    EXPECT_TRUE(projectedToOverrun(1.0, 50, 1000, 0.0));
+    EXPECT_FALSE(projectedToOverrun(0.2, 500, 1000, 0.0));
+    EXPECT_FALSE(projectedToOverrun(1.0, 1000, 1000, -1.0));
+    EXPECT_FALSE(projectedToOverrun(1.0, 0, 1000, -1.0));
 }
 
 TEST(SolveDeadline, HybridWithoutTimeForTheSolveRendersThePathTracersImage) {
