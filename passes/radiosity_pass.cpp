@@ -42,6 +42,7 @@ void hierarchicalKeys(Settings& s, Keys& keys) {
     keys("subdivision_threshold", s.subdivisionThreshold);
     keys.orAuto("final_gather", s.finalGatherRays, RadiositySettings::kAutoFinalGather, 0,
                 RadiositySettings::kMaxFinalGatherRays);
+    keys("direct_at_corners", s.directAtCorners);
 }
 
 // The script keys of progressive refinement (radiosity/progressive_solver.cpp's table).
@@ -157,6 +158,13 @@ LinkRefiner::Deadline solveDeadline(const PassContext& context, bool optional) {
 
 }  // namespace
 
+RadiositySettings RadiosityPass::solvedSettings(const RadiositySettings& asked) const {
+    RadiositySettings settings = asked;
+    // Only a view shows the direct light; the passes that reuse the solution trace it.
+    settings.directAtCorners = asked.directAtCorners && view_;
+    return settings;
+}
+
 void RadiosityPass::prepare(PassContext& context) {
     scene_ = &context.scene;
     // The solve's stages (meshing, direct light, linking, rounds, sweeps) on standard error.
@@ -166,7 +174,9 @@ void RadiosityPass::prepare(PassContext& context) {
         mesh_ = std::make_shared<RadiosityMesh>(context.scene, meshing);
         progress.endStage(std::to_string(mesh_->patchCount()) + " patches");
     };
-    if (const auto* hierarchical = std::get_if<RadiositySettings>(&settings_)) {
+    if (const auto* asked = std::get_if<RadiositySettings>(&settings_)) {
+        const RadiositySettings settings = solvedSettings(*asked);
+        const RadiositySettings* hierarchical = &settings;
         mesh(hierarchical->meshing(context.scene));
         const std::vector<FluxDeposit> deposits =
             takesCaustics_
@@ -255,7 +265,7 @@ PassStats RadiosityPass::parameters() const {
     // Before prepare() (penumbra plan) the sizes that depend on the scene are not resolved yet.
     ParameterPrinter print;
     if (const auto* h = std::get_if<RadiositySettings>(&settings_)) {
-        RadiositySettings shown = *h;
+        RadiositySettings shown = solvedSettings(*h);
         if (scene_) {
             const MeshingSettings meshing = h->meshing(*scene_);
             shown.patchEdgeLength = meshing.patchEdgeLength;

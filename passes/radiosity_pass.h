@@ -91,6 +91,9 @@ class RadiosityPass : public SamplingPass {
   private:
     // Photons per specular-transfer round, transferPhotons_ with auto resolved for the mesh.
     uint64_t transferPhotons(const RadiosityMesh& mesh) const;
+    // The hierarchical settings as solved for this pipeline: the direct light at the corners
+    // only for a view.
+    RadiositySettings solvedSettings(const RadiositySettings& asked) const;
 
     std::variant<RadiositySettings, ProgressiveSettings> settings_;
     Caustics caustics_ = Caustics::Exclude;

@@ -41,6 +41,10 @@ Color DirectIrradiance::depositedD(const DepositedFlux& flux, int element, bool 
     return exposed > 0.0f ? D / exposed : D;
 }
 
+Color DirectIrradiance::depositedSources(int n) const {
+    return deposits_ ? depositedD(*deposits_, element(n), front(n)) : Color(0.0f);
+}
+
 void DirectIrradiance::setTransferred(const std::vector<FluxDeposit>& deposits) {
     transferred_ = std::make_unique<DepositedFlux>(mesh_, deposits);
     Dtransferred_.assign(D_.size(), Color(0.0f));

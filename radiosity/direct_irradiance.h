@@ -57,6 +57,12 @@ class DirectIrradiance {
         }
         return Color(0.0f);
     }
+    // The sources' deposited flux's part of D (the caustic photons'): zero without deposits.
+    Color depositedSources(int node) const;
+    // The punctual lights' part of D, whatever show() says.
+    Color punctual(int node) const {
+        return glm::max(D_[static_cast<size_t>(node)] - depositedSources(node), Color(0.0f));
+    }
     // The spread of max(D) of the punctual lights over the element's sample points.
     float spread(int node) const { return Dspread_[static_cast<size_t>(node)]; }
     // Null without deposits.

@@ -106,7 +106,11 @@ bool LinkRefiner::subdivisible(int e) const {
 int LinkRefiner::children(int e) {
     if (!mesh_.isLeaf(e))
         return mesh_.firstChild(e);
-    const int first = mesh_.split(e);
+    return splitLeaf(e, mesh_.minElementArea(e));
+}
+
+int LinkRefiner::splitLeaf(int e, float minChildArea) {
+    const int first = mesh_.split(e, minChildArea);
     split_(e, first);
     for (int c = first; c < first + RadiosityMesh::kChildren; ++c)
         created_.push_back(c);

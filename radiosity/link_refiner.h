@@ -80,6 +80,13 @@ class LinkRefiner {
     // (RadiositySettings::subdivisionThreshold). Returns whether any leaf was split.
     bool subdivideByContrast(const std::string& step);
 
+    // Splits a leaf as the refinement does (the solver's parts make room, the children start
+    // from their parent's values), down to children of minChildArea (RadiosityMesh::split), and
+    // returns its first child; settleSplits() then gives the children split since the last call
+    // their own exposure and direct light.
+    int splitLeaf(int element, float minChildArea);
+    void settleSplits() { finishSplits(); }
+
     size_t refinedLinks() const { return refinedLinks_; }
     uint64_t rays() const { return rays_; }  // the new links' shadow rays
     // The time spent on the form factors and visibility of new links.

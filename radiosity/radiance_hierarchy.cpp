@@ -43,12 +43,21 @@ void RadianceHierarchy::resize() {
     H_.resize(nodes, Color(0.0f));
     G_.resize(nodes, Mat3(0.0f));
     Hchild_.resize(nodes, {Color(0.0f), Color(0.0f), Color(0.0f), Color(0.0f)});
+    if (!correction_.empty())
+        correction_.resize(nodes, Color(0.0f));
+    if (!direct_.empty())
+        direct_.resize(nodes, Color(0.0f));
 }
 
 void RadianceHierarchy::inherit(int childNode, int parentNode) {
     const auto child = static_cast<size_t>(childNode), parent = static_cast<size_t>(parentNode);
     L_[child] = L_[parent];
     Lmin_[child] = Lmax_[child] = maxComponent(L_[parent]);
+    // The final gather's correction is its patch side's, the same for every leaf of it.
+    if (!correction_.empty())
+        correction_[child] = correction_[parent];
+    if (!direct_.empty())
+        direct_[child] = direct_[parent];
 }
 
 // L = Le + rho (D + H) over the exposed part; a wholly covered leaf side receives nothing.

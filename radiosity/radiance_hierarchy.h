@@ -65,7 +65,9 @@ class RadianceHierarchy {
 
     // Makes room for the mesh's new elements.
     void resize();
-    // A new child's side starts from its parent's radiance until the next sweep.
+    // A new child's side starts from its parent's radiance until the next sweep, and takes its
+    // final gather correction and, once computeDirectPart() has run, its direct part (a leaf
+    // split after the solve, for the direct light at the corners, shows its parent's values).
     void inherit(int childNode, int parentNode);
 
     // Radiance leaving an element side, emission included.

@@ -363,16 +363,15 @@ void RadiosityMesh::setMaterial(Element& e) {
     }
 }
 
-int RadiosityMesh::split(int element) {
+int RadiosityMesh::split(int element, float minChildArea) {
     if (element < 0 || size_t(element) >= elements_.size())
         throw std::out_of_range("radiosity mesh: no element " + std::to_string(element));
     if (!isLeaf(element))
         return firstChild(element);
-    if (!canSplit(element))
+    if (!canSplit(element, minChildArea))
         throw std::logic_error("radiosity mesh: element " + std::to_string(element) +
                                " is too small to split (area " + std::to_string(area(element)) +
-                               " m², minimum child area " +
-                               std::to_string(minElementArea(element)) + " m²)");
+                               " m², minimum child area " + std::to_string(minChildArea) + " m²)");
     if (elements_.size() > size_t(INT_MAX) - kChildren)
         throw std::length_error("radiosity mesh: more than 2^31 - 1 elements");
 
@@ -492,10 +491,13 @@ ElementPoint RadiosityMesh::locate(uint32_t mesh, uint32_t triangle, const Vec3&
     return {e, w};
 }
 
-void RadiosityMesh::setElementValues(std::span<const Color> perElement) {
-    if (perElement.size() != elements_.size())
+void RadiosityMesh::setElementValues(std::span<const Color> perElement,
+                                     std::span<const std::array<Color, 3>> perCorner) {
+    if (perElement.size() != elements_.size() ||
+        (!perCorner.empty() && perCorner.size() != elements_.size()))
         throw std::invalid_argument("radiosity mesh: setElementValues got " +
-                                    std::to_string(perElement.size()) + " values for " +
+                                    std::to_string(perElement.size()) + " values and " +
+                                    std::to_string(perCorner.size()) + " corner values for " +
                                     std::to_string(elements_.size()) + " elements");
     elementValues_.assign(perElement.begin(), perElement.end());
 
@@ -507,8 +509,10 @@ void RadiosityMesh::setElementValues(std::span<const Color> perElement) {
         const Element& element = elements_[e];
         if (element.firstChild >= 0)
             continue;
-        for (const uint32_t v : element.vertices) {
-            sum[v] += double(element.area) * glm::dvec3(perElement[e]);
+        for (size_t k = 0; k < 3; ++k) {
+            const uint32_t v = element.vertices[k];
+            const Color value = perCorner.empty() ? perElement[e] : perElement[e] + perCorner[e][k];
+            sum[v] += double(element.area) * glm::dvec3(value);
             weight[v] += element.area;
         }
     }

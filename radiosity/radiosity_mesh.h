@@ -126,8 +126,11 @@ class RadiosityMesh {
     int level(int element) const { return at(element).level; }
     // Whether split(element) is allowed: the element is a leaf and its children would be at least
     // minElementArea(element).
-    bool canSplit(int element) const {
-        return isLeaf(element) && area(element) * 0.25f >= minElementArea(element);
+    bool canSplit(int element) const { return canSplit(element, minElementArea(element)); }
+    // The same with another smallest child area, for a refinement with its own rule of size
+    // (ShownDirect's, which sizes elements by the light rather than by the scene).
+    bool canSplit(int element, float minChildArea) const {
+        return isLeaf(element) && area(element) * 0.25f >= minChildArea;
     }
     // Splits a leaf 1:4 at its edge midpoints and returns the id of its first child. A midpoint
     // is shared with the neighbouring element across that edge (it exists already if the
@@ -135,7 +138,9 @@ class RadiosityMesh {
     // its area, and their own rho and Le. An element split before is returned unchanged (its
     // first child). Throws std::logic_error if !canSplit(element) for a leaf. Invalidates the
     // values of the last setElementValues(), which must be called again before interpolating.
-    int split(int element);
+    int split(int element) { return split(element, minElementArea(element)); }
+    // The same, allowed down to children of minChildArea (canSplit(element, minChildArea)).
+    int split(int element, float minChildArea);
 
     // --- Geometry ----------------------------------------------------------------------------
 
@@ -200,8 +205,11 @@ class RadiosityMesh {
     // take the linear interpolation along the edge they lie on, so the interpolated field is
     // continuous (Cohen and Wallace 1993, "Radiosity and Realistic Image Synthesis", ch. 6;
     // the anchoring of T-vertices of Baum, Mann, Smith and Winget 1991, "Making Radiosity
-    // Usable", SIGGRAPH '91). Throws std::invalid_argument for a wrong size.
-    void setElementValues(std::span<const Color> perElement);
+    // Usable", SIGGRAPH '91). With `perCorner` (size elementCount() too), each leaf adds its own
+    // value at each of its corners to its element value there before the averaging (a field
+    // known at the leaves' corners, ShownDirect's). Throws std::invalid_argument for a wrong size.
+    void setElementValues(std::span<const Color> perElement,
+                          std::span<const std::array<Color, 3>> perCorner = {});
     // The value computed by setElementValues() at a vertex.
     Color vertexValue(uint32_t vertex) const;
     // The Gouraud interpolation at a point (see locate()): the leaf's corner values weighted by

@@ -54,6 +54,12 @@ struct RadiositySettings {
     static constexpr int kMaxFinalGatherRays = 65536;
     int finalGatherRays = kAutoFinalGather;
     Iteration iteration = Iteration::GaussSeidel;
+    // Show the sources' direct light as evaluated at the corners of the leaves, on a mesh refined
+    // after the solve until its linear interpolation is right (shown_direct.h), instead of as the
+    // Gouraud interpolation of the element means: what radiance() returns, the radiosity view and
+    // the bake show. Off by default until it handles coincident faces and covered corners
+    // (docs/radiosity.md, "The direct light at the corners").
+    bool directAtCorners = false;
 
     // The mesh settings these stand for, with the defaults resolved for `scene`.
     MeshingSettings meshing(const Scene& scene) const;

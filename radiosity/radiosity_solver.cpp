@@ -14,6 +14,7 @@
 #include "radiosity/link_refiner.h"
 #include "radiosity/link_transfer.h"
 #include "radiosity/radiance_hierarchy.h"
+#include "radiosity/shown_direct.h"
 #include "radiosity/solver_nodes.h"
 
 #include <algorithm>
@@ -41,6 +42,11 @@ constexpr float kCoarseLinkingScale = 4.0f;
 
 // Passes of adaptive subdivision (subdivision_threshold) after the refinement rounds.
 constexpr int kSubdivisionPasses = 4;
+
+// The most leaves the refinement for the direct light at the corners may leave: this many times
+// the solve's, and at least kShownMinLeaves (a lone floor under a downlight needs ten thousand).
+constexpr size_t kShownLeavesPerLeaf = 4;
+constexpr size_t kShownMinLeaves = 65536;
 
 }  // namespace
 
@@ -152,15 +158,62 @@ int RadiositySolver::finalGatherRays() const {
     return clusters_ ? RadiositySettings::kClusterFinalGatherRays : 0;
 }
 
+void RadiositySolver::showDirectAtCorners() {
+    const auto start = std::chrono::steady_clock::now();
+    auto shown = std::make_unique<ShownDirect>(scene_, mesh_, [this](int e, bool side) {
+        return exposure_->fraction(node(e, side)) > 0.0f;
+    });
+    const size_t maxLeaves = std::max(kShownLeavesPerLeaf * mesh_.leafCount(), kShownMinLeaves);
+    const ShownDirect::Solver solver{
+        .split = [this](int leaf,
+                        float minChildArea) { return refiner_->splitLeaf(leaf, minChildArea); },
+        .settle = [this] { refiner_->settleSplits(); },
+        .punctualMean = [this](int e, bool side) { return irradiance_->punctual(node(e, side)); },
+        .exposedMean =
+            [this](int e, bool side) {
+                const Color rho = mesh_.rho(e);
+                const Color direct = radiance_->elementDirect(e, side);
+                return Color(rho.r > 0.0f ? direct.r / rho.r : 0.0f,
+                             rho.g > 0.0f ? direct.g / rho.g : 0.0f,
+                             rho.b > 0.0f ? direct.b / rho.b : 0.0f) -
+                       irradiance_->depositedSources(node(e, side));
+            },
+        .covered = [this](int e, const ElementSample& x, bool side,
+                          uint64_t& rays) { return exposure_->covers(e, x, side, rays); }};
+    // The new leaves keep their parent's radiance and its split into the direct part and the
+    // rest (RadianceHierarchy::inherit): the solve did not resolve them.
+    shown->refine(solver, maxLeaves, progress_);
+    shown_ = std::move(shown);
+    secondsShownDirect_ = secondsSince(start);
+}
+
+Color RadiositySolver::restOfReflected(int e, bool side) const {
+    return elementIndirect(e, side) + mesh_.rho(e) * irradiance_->depositedSources(node(e, side));
+}
+
 void RadiositySolver::computeVertexValues() {
     // The whole reflected radiance last, so that the mesh is left with the front's reflected
     // radiance.
     vertexIndirect_.compute(mesh_, exposure_->shownValues([this](int e, bool side) {
         return elementIndirect(e, side);
     }));
-    vertexReflected_.compute(mesh_, exposure_->shownValues([this](int element, bool side) {
-        return reflectedRadiance(element, side);
-    }));
+    if (!shown_) {
+        vertexReflected_.compute(mesh_, exposure_->shownValues([this](int element, bool side) {
+            return reflectedRadiance(element, side);
+        }));
+        return;
+    }
+    const auto rest = exposure_->shownValues(
+        [this](int element, bool side) { return restOfReflected(element, side); });
+    vertexRest_.compute(mesh_, rest);
+    // What the mesh's own vertex values (the bake's) hold: the rest plus the corners' direct
+    // light, averaged over the leaves at each vertex.
+    vertexReflected_.compute(mesh_, rest, [this](int element, bool side) {
+        std::array<Color, 3> corners = shown_->cornerD(element, side);
+        for (Color& D : corners)
+            D *= mesh_.rho(element);
+        return corners;
+    });
 }
 
 void RadiositySolver::beginStage(const std::string& name, uint64_t total) {
@@ -285,6 +338,10 @@ void RadiositySolver::solve(SolveProgress* progress, LinkRefiner::Deadline deadl
         finalGather();
         secondsFinalGather_ = secondsSince(stageStart);
     }
+    if (settings_.directAtCorners && !timeUp()) {
+        showDirectAtCorners();
+        computeVertexValues();
+    }
     secondsTotal_ = secondsSince(start);
     peakSolve_ = peakMemoryMiB();
     refiner_->setProgress(nullptr);
@@ -323,7 +380,9 @@ Color RadiositySolver::radiance(uint32_t mesh, uint32_t triangle, Vec3 b, bool i
     const ElementPoint point = mesh_.locate(mesh, triangle, b);
     if (point.element < 0 || vertexReflected_.empty())
         return Color(0.0f);
-    Color L = vertexReflected_.interpolate(mesh_, point, front);
+    Color L = shown_ ? vertexRest_.interpolate(mesh_, point, front) +
+                           mesh_.rho(point.element) * shown_->D(point, front)
+                     : vertexReflected_.interpolate(mesh_, point, front);
     if (!includeEmission)
         return L;
     // A side hidden under a coincident face shows that face's light (shownValues), its emission
@@ -347,7 +406,8 @@ PassStats RadiositySolver::stats() const {
                                               sizeof(std::array<Color, 4>)) +
                     links_->clusters() * (sizeof(Cluster) + sizeof(std::vector<Link>));
     memory += vertexReflected_.memoryBytes() + vertexIndirect_.memoryBytes() +
-              radiance_->directPartBytes() + exposure_->memoryBytes();
+              vertexRest_.memoryBytes() + radiance_->directPartBytes() + exposure_->memoryBytes() +
+              (shown_ ? shown_->memoryBytes() : 0);
     const std::vector<RadiosityIteration>& iterations = iteration_->iterations();
     const RadiosityIteration last = iterations.empty() ? RadiosityIteration{} : iterations.back();
     // The reflected luminous flux of each part, pi sum A Y(L) over the leaf sides (lm).
@@ -401,6 +461,10 @@ PassStats RadiositySolver::stats() const {
             {"final_gather_passes", std::to_string(finalGatherPasses_)},
             {"final_gather_rays", std::to_string(finalGather_->rays())},
             {"seconds_final_gather", formatStat(secondsFinalGather_)},
+            {"direct_at_corners_splits", std::to_string(shown_ ? shown_->leavesSplit() : 0)},
+            {"direct_at_corners_budget_reached", shown_ && shown_->budgetReached() ? "yes" : "no"},
+            {"direct_at_corners_rays", std::to_string(shown_ ? shown_->rays() : 0)},
+            {"seconds_direct_at_corners", formatStat(secondsShownDirect_)},
             {"seconds", formatStat(secondsTotal_)},
             {"peak_memory_mib_direct", formatStat(peakDirect_)},
             {"peak_memory_mib_linking", formatStat(peakLinking_)},

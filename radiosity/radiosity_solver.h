@@ -76,7 +76,8 @@
 //   RadianceHierarchy (radiance_hierarchy.h)   every node's radiance: gather and push-pull;
 //   LinkRefiner (link_refiner.h)               the oracle, which makes the links and splits;
 //   GatherIteration (gather_iteration.h)       the sweeps until convergence, and their record;
-//   FinalGather (final_gather.h)               the final gather's rays and correction.
+//   FinalGather (final_gather.h)               the final gather's rays and correction;
+//   ShownDirect (shown_direct.h)               the direct light shown at the leaves' corners.
 #pragma once
 
 #include "core/math.h"
@@ -107,6 +108,7 @@ class LinkHierarchy;
 class LinkTransfer;
 class RadianceHierarchy;
 class Scene;
+class ShownDirect;
 
 class RadiositySolver : public RadiositySolution {
   public:
@@ -119,15 +121,17 @@ class RadiositySolver : public RadiositySolution {
 
     // Direct light, initial linking, then gather sweeps alternating with refinement until nothing
     // is refined and the iteration has converged (or maxIterations); then the direct part
-    // (indirectRadiance) and the vertex values. Leaves the mesh's setElementValues() at the front
-    // side's reflected radiance. Reports its stages to `progress` if given (solve_progress.h).
-    // `deadline`, if given, is when the caller's time for the solve is up (a time limit): it is
-    // looked at as the links are refined and before each refinement round and the final gather.
-    // Once it has passed, the refinement stops: the solve ends with the links it has, those still
-    // being decided made as they stand (LinkRefiner::OnTimeUp::Coarsen; the last gather and the
-    // vertex values are quick). With OnTimeUp::Abandon, an initial linking that has not ended by
-    // the deadline abandons the solve instead (abandoned()): the solution is then not usable, for a
-    // caller that can do without it (the corrected hybrid traces what it would have held).
+    // (indirectRadiance), the final gather, with directAtCorners the leaves split for the direct
+    // light at their corners (unless the deadline has passed), and the vertex values. Leaves the
+    // mesh's setElementValues() at the front side's reflected radiance. Reports its stages to
+    // `progress` if given (solve_progress.h). `deadline`, if given, is when the caller's time for
+    // the solve is up (a time limit): it is looked at as the links are refined and before each
+    // refinement round and the final gather. Once it has passed, the refinement stops: the solve
+    // ends with the links it has, those still being decided made as they stand
+    // (LinkRefiner::OnTimeUp::Coarsen; the last gather and the vertex values are quick). With
+    // OnTimeUp::Abandon, an initial linking that has not ended by the deadline abandons the solve
+    // instead (abandoned()): the solution is then not usable, for a caller that can do without it
+    // (the corrected hybrid traces what it would have held).
     void solve(SolveProgress* progress = nullptr, LinkRefiner::Deadline deadline = std::nullopt,
                LinkRefiner::OnTimeUp onTimeUp = LinkRefiner::OnTimeUp::Coarsen);
     bool abandoned() const { return abandoned_; }
@@ -150,7 +154,9 @@ class RadiositySolver : public RadiositySolution {
 
     // Radiance (cd/m²) leaving the surface at barycentric b of scene triangle (mesh, triangle)
     // on its front (or back) side: the Gouraud interpolation of the reflected part
-    // (RadiosityMesh::setElementValues) plus, if includeEmission, the element's own flat Le. A
+    // (RadiosityMesh::setElementValues) plus, if includeEmission, the element's own flat Le; with
+    // RadiositySettings::directAtCorners, the reflected part's first reflection of the lights is
+    // rho times ShownDirect's interpolation of its corners instead (shown_direct.h). A
     // side hidden under a coincident face (coincident_faces.h) shows that face's light.
     // Zero on a triangle the mesh does not hold.
     Color radiance(uint32_t mesh, uint32_t triangle, Vec3 b, bool includeEmission,
@@ -193,6 +199,12 @@ class RadiositySolver : public RadiositySolution {
     // The final gather's passes (final_gather.h), each a stage of rays, one per leaf, then its
     // gather sweeps.
     void finalGather();
+    // The sources' direct light at the leaves' corners, on a mesh refined for it (shown_direct.h;
+    // RadiositySettings::directAtCorners).
+    void showDirectAtCorners();
+    // A leaf side's reflected light less what showDirectAtCorners() evaluates at its corners:
+    // the indirect part and the first reflection of deposited flux.
+    Color restOfReflected(int element, bool front) const;
     void computeVertexValues();
     // The progress sink of solve(), if any (these do nothing without one).
     void beginStage(const std::string& name, uint64_t total);
@@ -210,19 +222,21 @@ class RadiositySolver : public RadiositySolution {
     std::unique_ptr<LinkRefiner> refiner_;
     std::unique_ptr<GatherIteration> iteration_;
     std::unique_ptr<FinalGather> finalGather_;
+    std::unique_ptr<ShownDirect> shown_;  // null unless directAtCorners
 
     int rounds_ = 0;
     bool stoppedRefining_ = false;       // the deadline ended the refinement
     bool abandoned_ = false;             // ... during the initial linking, with OnTimeUp::Abandon
     SideVertexValues vertexReflected_;   // the reflected radiance, per mesh vertex and side
     SideVertexValues vertexIndirect_;    // its indirect part (elementIndirect)
+    SideVertexValues vertexRest_;        // with shown_: restOfReflected
     SolveProgress* progress_ = nullptr;  // during solve() only
     uint64_t rays_ = 0;
     int finalGatherPasses_ = 0;
     int transferRounds_ = 0;
     double secondsTransfer_ = 0;
     double secondsDirect_ = 0, secondsLinking_ = 0, secondsSolve_ = 0, secondsRefine_ = 0,
-           secondsFinalGather_ = 0, secondsTotal_ = 0;
+           secondsFinalGather_ = 0, secondsShownDirect_ = 0, secondsTotal_ = 0;
     double peakDirect_ = 0, peakLinking_ = 0, peakRefine_ = 0, peakSolve_ = 0;  // MiB
 };
 

@@ -16,8 +16,11 @@ class SideVertexValues {
   public:
     // Computes the vertex values of value(element, front), called for every element (only the
     // leaves' values are used), for the back and then the front side, so that the mesh is left
-    // with the front's values set (setElementValues).
-    void compute(RadiosityMesh& mesh, const std::function<Color(int element, bool front)>& value);
+    // with the front's values set (setElementValues). With `atCorners`, each leaf adds its values
+    // at its three corners (setElementValues' perCorner).
+    using CornerValues = std::function<std::array<Color, 3>(int element, bool front)>;
+    void compute(RadiosityMesh& mesh, const std::function<Color(int element, bool front)>& value,
+                 const CornerValues& atCorners = nullptr);
     // No compute() yet.
     bool empty() const { return values_[0].empty(); }
     // The interpolated value at a point located on the mesh (RadiosityMesh::locate): the leaf's

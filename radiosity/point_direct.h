@@ -1,0 +1,91 @@
+// The sources' direct light at a point of a meshed surface, exactly where no shadow falls: what
+// the shown solution (shown_direct.h) puts at the corners of its elements, so that the pool of
+// light under a downlight or beside a wall-washer is not the mean of an element around it.
+//
+// D(x) = E(x) / pi, an irradiance divided by pi (cd/m²), on the side of x facing n:
+//  - each punctual light (point, spot, directional): E = I cos(theta) T / d² or E_perp cos(theta)
+//    T, T the shadow ray's transmittance (pbrt-v4's direct lighting of delta lights);
+//  - each emissive patch j of the mesh (Le_j, one-sided unless two-sided): Le_j F(x -> j), F the
+//    point-to-polygon form factor by Lambert's contour integral (form_factor.h), exact and clipped
+//    to the hemisphere over x, times the visible fraction of the patch's light (scene mesh) j is
+//    part of. That fraction is a ratio estimator over fixed points of the light (the same for
+//    every x, so that neighbouring points see the same samples and the field stays smooth):
+//    sum_k w_k T_k / sum_k w_k, with w_k the unoccluded kernel cos(theta_x) cos(theta_k) / r_k²
+//    of point k, so that it is exactly 1 for an unshadowed light and 0 for a hidden one (the
+//    estimator of Wallace, Elmquist and Haines 1989, "A Ray Tracing Algorithm for Progressive
+//    Radiosity", with the analytic form factor in place of their disc approximation). A point
+//    casts kRaysPerPoint rays in all, shared among the lights in proportion to their unoccluded
+//    light there (at least one each, at most a light's kLightPoints): the lamps of a hall do not
+//    each need sixteen rays from every wall.
+//  Far from a patch (more than kFarField times its circumradius) its form factor is the point
+//  kernel A cos cos / (pi r²), within 1 % there (form_factor.h's measurements of the disc
+//  approximation: 0.16 % at 16 times the element's size) and without the contour's trigonometry.
+//  Caustic photons and other deposited flux are not in D: they stay the elements'
+//  (deposited_flux.h).
+#pragma once
+
+#include "core/math.h"
+#include "radiosity/element_sampling.h"
+
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+namespace penumbra {
+
+class Light;
+class RadiosityMesh;
+class Scene;
+
+class PointDirect {
+  public:
+    // Points per light for its visible fraction; a light's share of them follows its patches'
+    // areas.
+    static constexpr int kLightPoints = 16;
+    static constexpr int kRaysPerPoint = 32;
+    static constexpr float kFarField = 10.0f;
+
+    // Both must outlive it. The emitters are the mesh's emissive patches as they are now, each
+    // side that emits and is exposed(patch, front) (not hidden by a coincident face: a wall
+    // modelled twice emits once).
+    PointDirect(const Scene& scene, const RadiosityMesh& mesh,
+                const std::function<bool(int element, bool front)>& exposed);
+
+    // D at the point x on the side its normal n faces (x.n or -x.n), cd/m², in two parts: the
+    // punctual lights' and the emitters'. Adds the shadow rays it casts to `rays`.
+    struct Parts {
+        Color punctual{0.0f}, emitters{0.0f};
+        Color total() const { return punctual + emitters; }
+    };
+    Parts D(const ElementSample& x, const Vec3& n, uint64_t& rays) const;
+    // Whether there is any source to evaluate.
+    bool empty() const { return punctual_.empty() && lights_.empty(); }
+    // Distance (m) from p to the nearest point or spot light or emissive patch (to its
+    // circumscribed sphere: a lower bound), infinite with none of them.
+    float nearestSource(const Vec3& p) const;
+
+  private:
+    struct Patch {
+        std::array<Vec3, 3> corners;
+        Vec3 normal, centroid;
+        float area, farField2;  // farField2: (kFarField times the circumradius)²
+        Color Le;
+        bool front, back;  // which sides emit
+    };
+    // The unoccluded form factor from the differential area at x (normal n) to the patch.
+    static float formFactor(const Vec3& x, const Vec3& n, const Patch& patch);
+    // One emissive scene mesh: its patches and the fixed points of its visible fraction, in an
+    // order whose every prefix is spread over its patches.
+    struct AreaLight {
+        std::vector<Patch> patches;
+        std::vector<ElementSample> points;
+        bool twoSided = false;
+    };
+
+    const Scene& scene_;
+    std::vector<const Light*> punctual_;
+    std::vector<AreaLight> lights_;
+};
+
+}  // namespace penumbra

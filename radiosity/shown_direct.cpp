@@ -1,0 +1,261 @@
+#include "radiosity/shown_direct.h"
+
+#include "radiosity/element_sampling.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <atomic>
+#include <string>
+
+namespace penumbra {
+
+namespace {
+
+// How far inside its leaf a corner is evaluated, as a fraction of the way to the centroid.
+constexpr float kInset = 1e-3f;
+
+// The barycentric weights w moved kInset of the way to the leaf's centroid.
+Vec3 inset(const Vec3& w) {
+    return (1.0f - kInset) * w + Vec3(kInset / 3.0f);
+}
+
+constexpr std::array<Vec3, 3> kCorners = {Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1)};
+// Where the interpolation is tested: the edge midpoints and the centroid.
+constexpr std::array<Vec3, 4> kTestPoints = {Vec3(0.5f, 0.5f, 0), Vec3(0, 0.5f, 0.5f),
+                                             Vec3(0.5f, 0, 0.5f), Vec3(1.0f / 3.0f)};
+
+float longestEdge(const RadiosityMesh& mesh, int element) {
+    const std::array<Vec3, 3> c = mesh.corners(element);
+    return std::max({glm::length(c[1] - c[0]), glm::length(c[2] - c[1]), glm::length(c[0] - c[2])});
+}
+
+}  // namespace
+
+ShownDirect::ShownDirect(const Scene& scene, RadiosityMesh& mesh, const SideExposed& exposed)
+    : scene_(scene), mesh_(mesh), exposed_(exposed), sources_(scene, mesh, exposed) {}
+
+ShownDirect::Sample ShownDirect::sample(int element, const ElementSample& x, bool front,
+                                        uint64_t& rays) const {
+    if (solver_->covered(element, x, front, rays))
+        return {{}, true};
+    return {sources_.D(x, front ? x.n : -x.n, rays), false};
+}
+
+std::array<PointDirect::Parts, 3> ShownDirect::shownCorners(int leaf, size_t side) const {
+    const CornerParts& c = parts_[static_cast<size_t>(leaf)];
+    PointDirect::Parts exposed;
+    int count = 0;
+    for (size_t k = 0; k < 3; ++k) {
+        if (!c[3 * side + k].covered) {
+            exposed.punctual += c[3 * side + k].D.punctual;
+            exposed.emitters += c[3 * side + k].D.emitters;
+            ++count;
+        }
+    }
+    if (count > 0) {
+        exposed.punctual /= static_cast<float>(count);
+        exposed.emitters /= static_cast<float>(count);
+    } else {
+        exposed.emitters = solver_->exposedMean(leaf, side == 0);
+    }
+    std::array<PointDirect::Parts, 3> shown;
+    for (size_t k = 0; k < 3; ++k)
+        shown[k] = c[3 * side + k].covered ? exposed : c[3 * side + k].D;
+    return shown;
+}
+
+void ShownDirect::evaluateCorners(const std::vector<int>& leaves, SolveProgress* progress) {
+    std::atomic<uint64_t> rays{0};
+    parallelForWithProgress(leaves.size(), progress, [&](size_t i) {
+        const int e = leaves[i];
+        const ElementSampler sampler(scene_, mesh_, e);
+        uint64_t r = 0;
+        CornerParts& c = parts_[static_cast<size_t>(e)];
+        for (size_t side = 0; side < 2; ++side) {
+            if (!exposed_(e, side == 0))
+                continue;
+            for (size_t k = 0; k < 3; ++k)
+                c[k + 3 * side] = sample(e, sampler.at(inset(kCorners[k])), side == 0, r);
+        }
+        rays += r;
+    });
+    rays_ += rays;
+}
+
+// The children's corners in the parent's values (RadiosityMesh's child order: child c < 3 at
+// the parent's corner c, child 3 in the middle), the points being the parent's corners c0, c1, c2
+// and test points m01, m12, m20.
+void ShownDirect::inheritCorners(int parent, int firstChild) {
+    const CornerParts& c = parts_[static_cast<size_t>(parent)];
+    const TestPoints& t = tests_[static_cast<size_t>(parent)];
+    for (size_t side = 0; side < 2; ++side) {
+        const size_t o = 3 * side, m = 4 * side;
+        const Sample c0 = c[o], c1 = c[o + 1], c2 = c[o + 2];
+        const Sample m01 = t[m], m12 = t[m + 1], m20 = t[m + 2];
+        const std::array<std::array<Sample, 3>, 4> children = {
+            {{c0, m01, m20}, {m01, c1, m12}, {m20, m12, c2}, {m12, m20, m01}}};
+        for (size_t k = 0; k < 4; ++k) {
+            CornerParts& child = parts_[static_cast<size_t>(firstChild) + k];
+            for (size_t j = 0; j < 3; ++j)
+                child[o + j] = children[k][j];
+        }
+    }
+}
+
+std::vector<int> ShownDirect::toSplit(const std::vector<int>& leaves, SolveProgress* progress) {
+    std::vector<float> wrong(leaves.size(), 0.0f);
+    std::atomic<uint64_t> rays{0};
+    parallelForWithProgress(leaves.size(), progress, [&](size_t i) {
+        uint64_t r = 0;
+        wrong[i] = wrongness(leaves[i], r);
+        rays += r;
+    });
+    rays_ += rays;
+    std::vector<std::pair<float, int>> out;
+    for (size_t i = 0; i < leaves.size(); ++i) {
+        if (!(wrong[i] > 1.0f))
+            continue;
+        if (maySplit(leaves[i]))
+            out.emplace_back(wrong[i], leaves[i]);
+        else
+            unresolved_.push_back(leaves[i]);
+    }
+    std::stable_sort(out.begin(), out.end(),
+                     [](const auto& a, const auto& b) { return a.first > b.first; });
+    std::vector<int> split(out.size());
+    for (size_t i = 0; i < out.size(); ++i)
+        split[i] = out[i].second;
+    return split;
+}
+
+float ShownDirect::minChildArea(int element) const {
+    return mesh_.area(mesh_.patch(element)) / static_cast<float>(1 << (2 * kMaxLevels));
+}
+
+bool ShownDirect::maySplit(int leaf) const {
+    return mesh_.canSplit(leaf, minChildArea(leaf)) &&
+           longestEdge(mesh_, leaf) >
+               kMinEdgePerDistance * sources_.nearestSource(mesh_.centroid(leaf));
+}
+
+Color ShownDirect::energyShift(int leaf, size_t side) const {
+    const std::array<PointDirect::Parts, 3> c = shownCorners(leaf, side);
+    const Color corners = (c[0].punctual + c[1].punctual + c[2].punctual) / 3.0f;
+    return solver_->punctualMean(leaf, side == 0) - corners;
+}
+
+// Every test point is evaluated, also past the first that fails: a leaf that is split hands them
+// to its children as corners.
+float ShownDirect::wrongness(int leaf, uint64_t& rays) {
+    TestPoints& t = tests_[static_cast<size_t>(leaf)];
+    float worst = 0.0f;
+    const auto weigh = [&](const Color& error, const Color& a, const Color& b) {
+        const float scale = std::max({maxComponent(a), maxComponent(b), floor_});
+        if (scale > 0.0f)
+            worst = std::max(worst, maxComponent(glm::abs(error)) / (kTolerance * scale));
+    };
+    const ElementSampler sampler(scene_, mesh_, leaf);
+    for (size_t side = 0; side < 2; ++side) {
+        if (!exposed_(leaf, side == 0))
+            continue;
+        const std::array<PointDirect::Parts, 3> c = shownCorners(leaf, side);
+        const Color mean = (c[0].total() + c[1].total() + c[2].total()) / 3.0f;
+        const Color shift = energyShift(leaf, side);
+        weigh(shift, mean, mean + shift);
+        for (size_t k = 0; k < kTestPoints.size(); ++k) {
+            const Vec3 at = inset(kTestPoints[k]);
+            Sample& s = t[4 * side + k];
+            s = sample(leaf, sampler.at(at), side == 0, rays);
+            if (s.covered)
+                continue;
+            const Color exact = s.D.total();
+            const Color linear = at.x * c[0].total() + at.y * c[1].total() + at.z * c[2].total();
+            weigh(exact - linear, exact, linear);
+        }
+    }
+    return worst;
+}
+
+void ShownDirect::refine(const Solver& solver, size_t maxLeaves, SolveProgress* progress) {
+    if (sources_.empty())
+        return;
+    solver_ = &solver;
+    parts_.resize(mesh_.elementCount());
+    tests_.resize(mesh_.elementCount());
+    const std::vector<int> leaves = mesh_.leafElements();
+    if (progress)
+        progress->beginStage("direct light at the corners", leaves.size());
+    evaluateCorners(leaves, progress);
+    float brightest = 0.0f;
+    for (const int e : leaves) {
+        for (const Sample& s : parts_[static_cast<size_t>(e)])
+            brightest = std::max(brightest, maxComponent(s.D.total()));
+    }
+    floor_ = kFloor * brightest;
+    std::vector<int> split = toSplit(leaves, nullptr);
+    if (progress)
+        progress->endStage(std::to_string(split.size()) + " leaves to split");
+    for (int round = 1; !split.empty(); ++round) {
+        const size_t room = maxLeaves > mesh_.leafCount() ? maxLeaves - mesh_.leafCount() : 0;
+        // A split adds three leaves.
+        if (split.size() * 3 > room) {
+            budgetReached_ = true;
+            unresolved_.insert(unresolved_.end(), split.begin() + room / 3, split.end());
+            split.resize(room / 3);
+            if (split.empty())
+                break;
+        }
+        std::vector<int> children;
+        for (const int e : split) {
+            const int first = solver.split(e, minChildArea(e));
+            parts_.resize(mesh_.elementCount());
+            tests_.resize(mesh_.elementCount());
+            inheritCorners(e, first);
+            for (int c = first; c < first + RadiosityMesh::kChildren; ++c)
+                children.push_back(c);
+        }
+        leavesSplit_ += split.size();
+        solver.settle();
+        if (progress)
+            progress->beginStage("direct light at the corners, split " + std::to_string(round),
+                                 children.size());
+        split = toSplit(children, progress);
+        if (progress)
+            progress->endStage(std::to_string(mesh_.leafCount()) + " leaves");
+    }
+    // The totals, shifted where the mesh could not follow the light.
+    corners_.assign(mesh_.elementCount(), Corners{});
+    for (const int e : mesh_.leafElements()) {
+        for (size_t side = 0; side < 2; ++side) {
+            const std::array<PointDirect::Parts, 3> c = shownCorners(e, side);
+            for (size_t k = 0; k < 3; ++k)
+                corners_[static_cast<size_t>(e)][3 * side + k] = c[k].total();
+        }
+    }
+    for (const int e : unresolved_) {
+        for (size_t k = 0; k < 6; ++k)
+            corners_[static_cast<size_t>(e)][k] += energyShift(e, k / 3);
+    }
+    parts_ = {};
+    tests_ = {};
+    solver_ = nullptr;
+}
+
+Color ShownDirect::D(const ElementPoint& point, bool front) const {
+    if (point.element < 0 || static_cast<size_t>(point.element) >= corners_.size())
+        return Color(0.0f);
+    const Corners& c = corners_[static_cast<size_t>(point.element)];
+    const size_t o = front ? 0 : 3;
+    return point.weights.x * c[o] + point.weights.y * c[o + 1] + point.weights.z * c[o + 2];
+}
+
+std::array<Color, 3> ShownDirect::cornerD(int element, bool front) const {
+    if (static_cast<size_t>(element) >= corners_.size())
+        return {Color(0.0f), Color(0.0f), Color(0.0f)};
+    const Corners& c = corners_[static_cast<size_t>(element)];
+    const size_t o = front ? 0 : 3;
+    return {c[o], c[o + 1], c[o + 2]};
+}
+
+}  // namespace penumbra
