@@ -150,14 +150,6 @@ const CoverSamples* ElementExposure::coverSamplesOf(int n) const {
     return it == coverSamples_.end() ? nullptr : &it->second;
 }
 
-bool ElementExposure::covers(int element, const ElementSample& x, bool front,
-                             uint64_t& rays) const {
-    if (hiddenByCoincident(coincident_, mesh_, element, front, x))
-        return true;
-    const Vec3 n = front ? mesh_.normal(element) : -mesh_.normal(element);
-    return isCovered(scene_, mesh_, coincident_, x, n, coveringGap(element), rays);
-}
-
 float ElementExposure::coveringGap(int e) const {
     return kCoveringGap * std::sqrt(mesh_.minElementArea(e));
 }

@@ -67,10 +67,6 @@ class ElementExposure {
 
     const SealedInteriors& sealed() const { return sealed_; }
     const CoincidentFaces& coincident() const { return coincident_; }
-    // Whether side `front` of the element is covered at its point x (isCovered within the
-    // element's gap, or hidden by a coincident patch), as the element's own points are judged.
-    // Adds the probe rays to `rays`.
-    bool covers(int element, const ElementSample& x, bool front, uint64_t& rays) const;
     // The fractions' memory, for the solver's estimate.
     size_t memoryBytes() const { return fractions_.size() * sizeof(float); }
 

@@ -42,10 +42,9 @@ PointDirect::PointDirect(const Scene& scene, const RadiosityMesh& mesh,
         float radius = 0.0f;
         for (const Vec3& corner : mesh.corners(patch))
             radius = std::max(radius, glm::length(corner - c));
-        const float far = kFarField * radius;
         byMesh[mesh.sceneMesh(patch)].patches.push_back({mesh.corners(patch), mesh.normal(patch), c,
-                                                         mesh.area(patch), far * far,
-                                                         mesh.Le(patch), front, back});
+                                                         mesh.area(patch), radius, mesh.Le(patch),
+                                                         front, back});
         areas[mesh.sceneMesh(patch)] += mesh.area(patch);
         patchesOf[mesh.sceneMesh(patch)].push_back(patch);
     }
@@ -81,8 +80,8 @@ PointDirect::PointDirect(const Scene& scene, const RadiosityMesh& mesh,
 
 float PointDirect::formFactor(const Vec3& x, const Vec3& n, const Patch& patch) {
     const Vec3 d = patch.centroid - x;
-    const float r2 = glm::dot(d, d);
-    if (r2 > patch.farField2) {
+    const float r2 = glm::dot(d, d), far = kFarField * patch.radius;
+    if (r2 > far * far) {
         const float cosX = glm::dot(n, d), cosP = std::abs(glm::dot(patch.normal, d));
         return cosX > 0.0f ? patch.area * cosX * cosP / (kPi * r2 * r2) : 0.0f;
     }
@@ -99,13 +98,9 @@ float PointDirect::nearestSource(const Vec3& p) const {
             nearest = std::min(nearest, glm::length(ls->pLight - p));
     }
     for (const AreaLight& light : lights_) {
-        for (const Patch& patch : light.patches) {
-            const Vec3 c = (patch.corners[0] + patch.corners[1] + patch.corners[2]) / 3.0f;
-            float radius = 0.0f;
-            for (const Vec3& corner : patch.corners)
-                radius = std::max(radius, glm::length(corner - c));
-            nearest = std::min(nearest, std::max(0.0f, glm::length(p - c) - radius));
-        }
+        for (const Patch& patch : light.patches)
+            nearest =
+                std::min(nearest, std::max(0.0f, glm::length(p - patch.centroid) - patch.radius));
     }
     return nearest;
 }

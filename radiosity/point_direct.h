@@ -69,7 +69,7 @@ class PointDirect {
     struct Patch {
         std::array<Vec3, 3> corners;
         Vec3 normal, centroid;
-        float area, farField2;  // farField2: (kFarField times the circumradius)²
+        float area, radius;  // radius: the circumradius about the centroid
         Color Le;
         bool front, back;  // which sides emit
     };

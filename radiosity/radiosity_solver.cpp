@@ -178,8 +178,10 @@ void RadiositySolver::showDirectAtCorners() {
                              rho.b > 0.0f ? direct.b / rho.b : 0.0f) -
                        irradiance_->depositedSources(node(e, side));
             },
-        .covered = [this](int e, const ElementSample& x, bool side,
-                          uint64_t& rays) { return exposure_->covers(e, x, side, rays); }};
+        .covered =
+            [this](int e, const ElementSample& x, bool side, uint64_t& rays) {
+                return exposure_->covered(e, x, side ? x.n : -x.n, rays);
+            }};
     // The new leaves keep their parent's radiance and its split into the direct part and the
     // rest (RadianceHierarchy::inherit): the solve did not resolve them.
     shown->refine(solver, maxLeaves, progress_);
