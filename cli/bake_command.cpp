@@ -78,6 +78,7 @@ void bake(const BakeOptions& options) {
                                 {automaticTransferPhotons(mesh), options.seed}, quiet,
                                 solveProgress);
     }
+    solver.showIndirectAtCorners(&solveProgress);
     const double solveSeconds = secondsSince(start);
 
     BakeResult result;
@@ -134,6 +135,12 @@ Command addBakeCommand(CLI::App& app) {
                         "Longest patch edge in metres (default 0: the scene's bounding radius)");
     command->add_option("--min-element-area", r.minElementArea,
                         "Smallest element in m² (default 0: total surface area / 16384)");
+    command
+        ->add_option("--indirect-at-corners", r.indirectAtCorners,
+                     "Rays per element corner that gather the indirect light shown there "
+                     "(0: the element means)")
+        ->check(CLI::Range(0, RadiositySettings::kMaxIndirectAtCornersRays))
+        ->capture_default_str();
     command
         ->add_flag("!--no-caustics", options->caustics,
                    "Leave out the light that reaches surfaces from the lights through mirrors "

@@ -41,6 +41,9 @@ class DistributionPass : public SamplingPass {
                    ? "L S* E | L D S* E"
                    : distributionLightPaths(causticsInRadiosity_, specularTransfer_);
     }
+    TransportFlags transportFlags() const override {
+        return {.showsSolution = ambient_ == Ambient::Radiosity};
+    }
     void adapt(const PipelineShape& shape) override {
         causticsInRadiosity_ = shape.causticsInRadiosity;
         specularTransfer_ = shape.specularTransferInRadiosity;

@@ -114,6 +114,10 @@ struct TransportFlags {
     // The pass counts the caustic paths L S+ D S* E itself when no other pass of the pipeline
     // does (a path pass with caustics = "auto").
     bool tracesUncountedCaustics = false;
+    // The pass shows a radiosity solution's light at the points the eye sees (distribution ray
+    // tracing's ambient term), so the solution's values at points matter, not only its element
+    // means (RadiositySettings::indirectAtCorners).
+    bool showsSolution = false;
 };
 
 // What a pass learns of the rest of its pipeline when the pipeline is planned.
@@ -136,6 +140,9 @@ struct PipelineShape {
     // A pass after this one traces the caustic paths L S+ D S* E itself when no other pass counts
     // them (TransportFlags::tracesUncountedCaustics).
     bool causticsTracedLater = false;
+    // A pass after this one shows the radiosity solution at the points the eye sees
+    // (TransportFlags::showsSolution).
+    bool solutionShownLater = false;
 };
 
 class Pass {

@@ -43,11 +43,13 @@ std::optional<PipelineProblem> checkPipeline(Pipeline& pipeline) {
         shape.specularFromSolutionLater = false;
         shape.solutionRequiredLater = false;
         shape.causticsTracedLater = false;
+        shape.solutionShownLater = false;
         for (size_t j = i + 1; j < passes.size(); ++j) {
             if (skipped(j))
                 continue;
             const TransportFlags later = passes[j]->transportFlags();
             shape.causticsTracedLater = shape.causticsTracedLater || later.tracesUncountedCaustics;
+            shape.solutionShownLater = shape.solutionShownLater || later.showsSolution;
             for (const std::string& need : passes[j]->needs()) {
                 shape.neededLater.insert(need);
                 shape.solutionRequiredLater =

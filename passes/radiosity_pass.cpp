@@ -43,6 +43,7 @@ void hierarchicalKeys(Settings& s, Keys& keys) {
     keys.orAuto("final_gather", s.finalGatherRays, RadiositySettings::kAutoFinalGather, 0,
                 RadiositySettings::kMaxFinalGatherRays);
     keys("direct_at_corners", s.directAtCorners);
+    keys("indirect_at_corners", s.indirectAtCorners);
 }
 
 // The script keys of progressive refinement (radiosity/progressive_solver.cpp's table).
@@ -104,6 +105,7 @@ std::unique_ptr<Pass> RadiosityPass::fromScript(const ScriptTable& table, const 
 
 void RadiosityPass::adapt(const PipelineShape& shape) {
     view_ = !shape.neededLater.count(products::kRadiositySolution);
+    shown_ = view_ || shape.solutionShownLater;
     optional_ = !view_ && !shape.solutionRequiredLater;
     const bool hierarchical = std::holds_alternative<RadiositySettings>(settings_);
     takesCaustics_ = caustics_ == Caustics::Auto && shape.madeBefore.count(products::kCausticMap) &&
@@ -162,6 +164,10 @@ RadiositySettings RadiosityPass::solvedSettings(const RadiositySettings& asked) 
     RadiositySettings settings = asked;
     // Only a view shows the direct light; the passes that reuse the solution trace it.
     settings.directAtCorners = asked.directAtCorners && view_;
+    // Only a view and distribution ray tracing's ambient term show the indirect light at points;
+    // the path tracers read the solution one bounce or more from the eye.
+    if (!shown_)
+        settings.indirectAtCorners = 0;
     return settings;
 }
 
@@ -193,6 +199,8 @@ void RadiosityPass::prepare(PassContext& context) {
             transferThroughSpecular(context.scene, *mesh_, *solver,
                                     {transferPhotons(*mesh_), context.settings.seed},
                                     context.settings.quiet, progress);
+        if (!abandoned && !(deadline && std::chrono::steady_clock::now() >= *deadline))
+            solver->showIndirectAtCorners(&progress);
         solution_ = std::move(solver);
         if (abandoned)
             return;  // no product: the correcting pass after traces every path on

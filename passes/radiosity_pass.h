@@ -101,6 +101,7 @@ class RadiosityPass : public SamplingPass {
     int64_t transferPhotons_ = kAutoTransferPhotons;
     bool transfers_ = false;      // the solution carries its light through specular surfaces
     bool view_ = true;            // forms the image (no later pass reuses the solution)
+    bool shown_ = true;           // the view or a later pass shows its light at points
     bool optional_ = false;       // only passes that do without the solution reuse it
     bool takesCaustics_ = false;  // the solution takes a caustic map made before the pass
     const Scene* scene_ = nullptr;

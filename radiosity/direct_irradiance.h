@@ -73,6 +73,10 @@ class DirectIrradiance {
     void setTransferred(const std::vector<FluxDeposit>& deposits);
     // Null before setTransferred().
     const DepositedFlux* transferred() const { return transferred_.get(); }
+    // The transferred flux's part of D: zero before setTransferred().
+    Color transferredD(int node) const {
+        return transferred_ ? Dtransferred_[static_cast<size_t>(node)] : Color(0.0f);
+    }
 
   private:
     Color depositedD(const DepositedFlux& flux, int element, bool front) const;

@@ -42,6 +42,15 @@ class ElementSampler {
     Vec3 n_;
 };
 
+// Barycentric weights w moved a thousandth of the way to the element's centroid: where values
+// shown "at a corner" (or an edge) are evaluated, so that an element beside a discontinuity of
+// the light (a shadow's edge, a contact line along one of its edges) takes the limit from its own
+// side.
+inline Vec3 insetWeights(const Vec3& w) {
+    constexpr float kInset = 1e-3f;
+    return (1.0f - kInset) * w + Vec3(kInset / 3.0f);
+}
+
 // The point with uniform-map coordinates u in [0, 1)^2 on the element: ElementSampler's point at
 // sampleUniformTriangle(u) (Heitz's area-preserving map: uniform in area).
 ElementSample sampleElement(const Scene& scene, const RadiosityMesh& mesh, int element, Vec2 u);

@@ -96,15 +96,13 @@ double FinalGather::pass(const std::vector<int>& leaves, SolveProgress* progress
     return norm > 0.0 ? change / norm : 0.0;
 }
 
-// The reflected radiance of the leaf side a final-gather ray meets, flat as the solution holds it
-// (the Gouraud-interpolated values of the view mix the sides of a crease at its vertices, and their
-// mean over an element is not the element's, which the fluxes and the links use).
-Color FinalGather::reflectedAt(const MeshedHit& y) const {
-    const int leaf = mesh_.locate(y.hit.mesh, y.hit.triangle, y.hit.barycentric).element;
+Color reflectedAt(const Scene& scene, const RadiosityMesh& mesh, const ElementExposure& exposure,
+                  const RadianceHierarchy& radiance, const MeshedHit& y) {
+    const int leaf = mesh.locate(y.hit.mesh, y.hit.triangle, y.hit.barycentric).element;
     const auto [e, side] =
-        leafSideSeenAt(scene_, mesh_, exposure_.coincident(), leaf, y.front, y.hit.p);
+        leafSideSeenAt(scene, mesh, exposure.coincident(), leaf, y.front, y.hit.p);
     const int n = node(e, side);
-    return glm::max(radiance_.L(n) - radiance_.emission(n), Color(0.0f));
+    return glm::max(radiance.L(n) - radiance.emission(n), Color(0.0f));
 }
 
 // G of pass() for every exposed side of `leaves` that reflects, per node; -1 elsewhere.
@@ -138,7 +136,7 @@ std::vector<Color> FinalGather::gatherIndirect(const std::vector<int>& leaves,
                 const std::optional<MeshedHit> y = firstMeshedHit(
                     scene_, mesh_, Ray{offsetRayOrigin(x.p, x.pError, x.n, w), w}, count);
                 if (y)
-                    sum += y->transmittance * reflectedAt(*y);
+                    sum += y->transmittance * reflectedAt(scene_, mesh_, exposure_, radiance_, *y);
             }
             if (used > 0)
                 gathered[static_cast<size_t>(nd)] = rho * sum / static_cast<float>(used);

@@ -19,6 +19,13 @@ namespace penumbra {
 
 class Scene;
 
+// The reflected radiance (cd/m², emission left out) of the leaf side a gather ray meets, flat as
+// the solution holds it (the Gouraud-interpolated values of the view mix the sides of a crease at
+// its vertices, and their mean over an element is not the element's, which the fluxes and the
+// links use).
+Color reflectedAt(const Scene& scene, const RadiosityMesh& mesh, const ElementExposure& exposure,
+                  const RadianceHierarchy& radiance, const MeshedHit& hit);
+
 class FinalGather {
   public:
     // All must outlive it. `raysPerSide`: rays per leaf side, cosine-distributed from stratified
@@ -34,7 +41,6 @@ class FinalGather {
 
   private:
     std::vector<Color> gatherIndirect(const std::vector<int>& leaves, SolveProgress* progress);
-    Color reflectedAt(const MeshedHit& hit) const;
 
     const Scene& scene_;
     const RadiosityMesh& mesh_;

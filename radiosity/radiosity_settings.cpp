@@ -32,6 +32,9 @@
 //                                               leaves' corners, the mesh refined after the solve
 //                                               until its interpolation is within 1 %
 //                                               (shown_direct.h); false = the element means
+//   indirect_at_corners int     256             rays per leaf corner and side that gather the
+//                                               indirect light shown there (indirect_at_corners.h);
+//                                               0 = the element means
 #include "radiosity/radiosity_settings.h"
 
 #include "core/errors.h"
@@ -93,6 +96,9 @@ void validateRadiositySettings(const RadiositySettings& s) {
     if (s.finalGatherRays != RadiositySettings::kAutoFinalGather &&
         (s.finalGatherRays < 0 || s.finalGatherRays > RadiositySettings::kMaxFinalGatherRays))
         fail("final_gather", "an integer in [0, 65536] or auto (-1)", s.finalGatherRays);
+    if (s.indirectAtCorners < 0 ||
+        s.indirectAtCorners > RadiositySettings::kMaxIndirectAtCornersRays)
+        fail("indirect_at_corners", "an integer in [0, 65536]", s.indirectAtCorners);
 }
 
 RadiositySettings RadiositySettings::forCorrectedReuse() {
@@ -101,6 +107,7 @@ RadiositySettings RadiositySettings::forCorrectedReuse() {
     settings.visibilitySamples = 4;
     settings.maxRefinements = 1;
     settings.finalGatherRays = 0;
+    settings.indirectAtCorners = 0;
     settings.convergence = 1e-3;
     return settings;
 }

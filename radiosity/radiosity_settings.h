@@ -60,6 +60,12 @@ struct RadiositySettings {
     // the bake show. Off by default until it handles coincident faces and covered corners
     // (docs/radiosity.md, "The direct light at the corners").
     bool directAtCorners = false;
+    // Show the indirect light as gathered at the corners of the leaves with this many rays per
+    // corner and side (indirect_at_corners.h), instead of as the Gouraud interpolation of the
+    // element means: what radiance() and indirectRadiance() return, the radiosity view, the bake
+    // and the distribution pipeline's ambient term show. 0 = off.
+    static constexpr int kMaxIndirectAtCornersRays = 65536;
+    int indirectAtCorners = 256;
 
     // The mesh settings these stand for, with the defaults resolved for `scene`.
     MeshingSettings meshing(const Scene& scene) const;

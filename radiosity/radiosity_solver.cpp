@@ -10,6 +10,7 @@
 #include "radiosity/element_sampling.h"
 #include "radiosity/final_gather.h"
 #include "radiosity/gather_iteration.h"
+#include "radiosity/indirect_at_corners.h"
 #include "radiosity/link_hierarchy.h"
 #include "radiosity/link_refiner.h"
 #include "radiosity/link_transfer.h"
@@ -189,8 +190,40 @@ void RadiositySolver::showDirectAtCorners() {
     secondsShownDirect_ = secondsSince(start);
 }
 
-Color RadiositySolver::restOfReflected(int e, bool side) const {
-    return elementIndirect(e, side) + mesh_.rho(e) * irradiance_->depositedSources(node(e, side));
+void RadiositySolver::showIndirectAtCorners(SolveProgress* progress) {
+    if (settings_.indirectAtCorners <= 0)
+        return;
+    const auto start = std::chrono::steady_clock::now();
+    progress_ = progress;
+    indirectCorners_ =
+        std::make_unique<IndirectAtCorners>(scene_, mesh_, settings_.indirectAtCorners);
+    const IndirectAtCorners::Solution solution{
+        .exposed = [this](int e, bool side) { return exposure_->fraction(node(e, side)) > 0.0f; },
+        .covered =
+            [this](int e, const ElementSample& x, bool side, uint64_t& rays) {
+                return exposure_->partlyCovered(node(e, side)) &&
+                       exposure_->covered(e, x, side ? x.n : -x.n, rays);
+            },
+        .reflectedAt =
+            [this](const MeshedHit& y) {
+                return reflectedAt(scene_, mesh_, *exposure_, *radiance_, y);
+            },
+        .fallback = [this](int e, bool side) { return elementIndirect(e, side); }};
+    beginStage("indirect light at the corners", mesh_.leafCount());
+    indirectCorners_->gather(solution, progress_);
+    endStage(std::to_string(indirectCorners_->rays()) + " rays");
+    computeVertexValues();
+    progress_ = nullptr;
+    const double seconds = secondsSince(start);
+    secondsIndirectAtCorners_ += seconds;
+    secondsTotal_ += seconds;
+}
+
+Color RadiositySolver::shownIndirect(const ElementPoint& point, bool front) const {
+    if (!indirectCorners_ || !(exposure_->fraction(node(point.element, front)) > 0.0f))
+        return vertexIndirect_.interpolate(mesh_, point, front);
+    return indirectCorners_->at(point, front) +
+           mesh_.rho(point.element) * irradiance_->transferredD(node(point.element, front));
 }
 
 void RadiositySolver::computeVertexValues() {
@@ -199,21 +232,38 @@ void RadiositySolver::computeVertexValues() {
     vertexIndirect_.compute(mesh_, exposure_->shownValues([this](int e, bool side) {
         return elementIndirect(e, side);
     }));
-    if (!shown_) {
+    if (!shown_ && !indirectCorners_) {
         vertexReflected_.compute(mesh_, exposure_->shownValues([this](int element, bool side) {
             return reflectedRadiance(element, side);
         }));
         return;
     }
-    const auto rest = exposure_->shownValues(
-        [this](int element, bool side) { return restOfReflected(element, side); });
+    // The part of the reflected light that neither the corners of shown_ nor those of
+    // indirectCorners_ hold: the first reflection of the deposited flux with shown_, the whole
+    // first reflection of the sources without.
+    const auto rest = exposure_->shownValues([this](int element, bool side) {
+        const Color first =
+            shown_ ? mesh_.rho(element) * irradiance_->depositedSources(node(element, side))
+                   : elementDirect(element, side);
+        return indirectCorners_ ? first : first + elementIndirect(element, side);
+    });
     vertexRest_.compute(mesh_, rest);
-    // What the mesh's own vertex values (the bake's) hold: the rest plus the corners' direct
-    // light, averaged over the leaves at each vertex.
+    // What the mesh's own vertex values (the bake's) hold: the rest plus the corners' light,
+    // averaged over the leaves at each vertex.
     vertexReflected_.compute(mesh_, rest, [this](int element, bool side) {
-        std::array<Color, 3> corners = shown_->cornerD(element, side);
-        for (Color& D : corners)
-            D *= mesh_.rho(element);
+        std::array<Color, 3> corners{};
+        if (shown_) {
+            corners = shown_->cornerD(element, side);
+            for (Color& D : corners)
+                D *= mesh_.rho(element);
+        }
+        if (indirectCorners_) {
+            const std::array<Color, 3> indirect = indirectCorners_->corners(element, side);
+            const Color transferred =
+                mesh_.rho(element) * irradiance_->transferredD(node(element, side));
+            for (size_t k = 0; k < 3; ++k)
+                corners[k] += indirect[k] + transferred;
+        }
         return corners;
     });
 }
@@ -361,6 +411,9 @@ void RadiositySolver::transferThroughSpecular(const std::vector<FluxDeposit>& de
     beginStage(stage + ": push-pull of the direct part, vertex values", 0);
     radiance_->computeDirectPart(*irradiance_);
     computeVertexValues();
+    // The corners' gather saw the solution before this transfer.
+    indirectCorners_.reset();
+    computeVertexValues();
     endStage(std::to_string(irradiance_->transferred()->count()) + " deposits");
     progress_ = nullptr;
     const double seconds = secondsSince(start);
@@ -382,9 +435,14 @@ Color RadiositySolver::radiance(uint32_t mesh, uint32_t triangle, Vec3 b, bool i
     const ElementPoint point = mesh_.locate(mesh, triangle, b);
     if (point.element < 0 || vertexReflected_.empty())
         return Color(0.0f);
-    Color L = shown_ ? vertexRest_.interpolate(mesh_, point, front) +
-                           mesh_.rho(point.element) * shown_->D(point, front)
-                     : vertexReflected_.interpolate(mesh_, point, front);
+    Color L = vertexReflected_.interpolate(mesh_, point, front);
+    if (shown_ || indirectCorners_) {
+        L = vertexRest_.interpolate(mesh_, point, front);
+        if (shown_)
+            L += mesh_.rho(point.element) * shown_->D(point, front);
+        if (indirectCorners_)
+            L += shownIndirect(point, front);
+    }
     if (!includeEmission)
         return L;
     // A side hidden under a coincident face shows that face's light (shownValues), its emission
@@ -395,7 +453,10 @@ Color RadiositySolver::radiance(uint32_t mesh, uint32_t triangle, Vec3 b, bool i
 
 Color RadiositySolver::indirectRadiance(uint32_t mesh, uint32_t triangle, Vec3 b,
                                         bool front) const {
-    return vertexIndirect_.interpolate(mesh_, mesh_.locate(mesh, triangle, b), front);
+    const ElementPoint point = mesh_.locate(mesh, triangle, b);
+    if (point.element < 0)
+        return Color(0.0f);
+    return shownIndirect(point, front);
 }
 
 // --- Statistics --------------------------------------------------------------------------------
@@ -467,6 +528,9 @@ PassStats RadiositySolver::stats() const {
             {"direct_at_corners_budget_reached", shown_ && shown_->budgetReached() ? "yes" : "no"},
             {"direct_at_corners_rays", std::to_string(shown_ ? shown_->rays() : 0)},
             {"seconds_direct_at_corners", formatStat(secondsShownDirect_)},
+            {"indirect_at_corners_rays",
+             std::to_string(indirectCorners_ ? indirectCorners_->rays() : 0)},
+            {"seconds_indirect_at_corners", formatStat(secondsIndirectAtCorners_)},
             {"seconds", formatStat(secondsTotal_)},
             {"peak_memory_mib_direct", formatStat(peakDirect_)},
             {"peak_memory_mib_linking", formatStat(peakLinking_)},

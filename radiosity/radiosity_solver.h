@@ -104,6 +104,7 @@ class DirectIrradiance;
 class ElementExposure;
 class FinalGather;
 class GatherIteration;
+class IndirectAtCorners;
 class LinkHierarchy;
 class LinkTransfer;
 class RadianceHierarchy;
@@ -151,6 +152,13 @@ class RadiositySolver : public RadiositySolution {
     // solution's light as an emitter.
     Color reflectedRadiance(int element, bool front) const;
     float exposedFraction(int element, bool front) const;
+
+    // Gathers the indirect light at the leaves' corners (indirect_at_corners.h) with
+    // RadiositySettings::indirectAtCorners rays, for radiance() and indirectRadiance() to show;
+    // nothing if that is 0. For the owner to call once the solution is final, after solve() and
+    // any specular transfer (a transfer drops the corners: they saw the solution before it).
+    // Reports its stage to `progress` if given.
+    void showIndirectAtCorners(SolveProgress* progress = nullptr);
 
     // Radiance (cd/m²) leaving the surface at barycentric b of scene triangle (mesh, triangle)
     // on its front (or back) side: the Gouraud interpolation of the reflected part
@@ -202,9 +210,10 @@ class RadiositySolver : public RadiositySolution {
     // The sources' direct light at the leaves' corners, on a mesh refined for it (shown_direct.h;
     // RadiositySettings::directAtCorners).
     void showDirectAtCorners();
-    // A leaf side's reflected light less what showDirectAtCorners() evaluates at its corners:
-    // the indirect part and the first reflection of deposited flux.
-    Color restOfReflected(int element, bool front) const;
+    // What the solution shows of the indirect light (and of the transferred flux's first
+    // reflection) at a point: the corners' gather interpolated, or at a side that shows another's
+    // light or none, the vertex values' (Gouraud) interpolation.
+    Color shownIndirect(const ElementPoint& point, bool front) const;
     void computeVertexValues();
     // The progress sink of solve(), if any (these do nothing without one).
     void beginStage(const std::string& name, uint64_t total);
@@ -222,21 +231,23 @@ class RadiositySolver : public RadiositySolution {
     std::unique_ptr<LinkRefiner> refiner_;
     std::unique_ptr<GatherIteration> iteration_;
     std::unique_ptr<FinalGather> finalGather_;
-    std::unique_ptr<ShownDirect> shown_;  // null unless directAtCorners
+    std::unique_ptr<ShownDirect> shown_;                  // null unless directAtCorners
+    std::unique_ptr<IndirectAtCorners> indirectCorners_;  // null unless indirectAtCorners > 0
 
     int rounds_ = 0;
-    bool stoppedRefining_ = false;       // the deadline ended the refinement
-    bool abandoned_ = false;             // ... during the initial linking, with OnTimeUp::Abandon
-    SideVertexValues vertexReflected_;   // the reflected radiance, per mesh vertex and side
-    SideVertexValues vertexIndirect_;    // its indirect part (elementIndirect)
-    SideVertexValues vertexRest_;        // with shown_: restOfReflected
+    bool stoppedRefining_ = false;      // the deadline ended the refinement
+    bool abandoned_ = false;            // ... during the initial linking, with OnTimeUp::Abandon
+    SideVertexValues vertexReflected_;  // the reflected radiance, per mesh vertex and side
+    SideVertexValues vertexIndirect_;   // its indirect part (elementIndirect)
+    SideVertexValues vertexRest_;       // with shown_ or indirectCorners_: what their corners leave
     SolveProgress* progress_ = nullptr;  // during solve() only
     uint64_t rays_ = 0;
     int finalGatherPasses_ = 0;
     int transferRounds_ = 0;
     double secondsTransfer_ = 0;
     double secondsDirect_ = 0, secondsLinking_ = 0, secondsSolve_ = 0, secondsRefine_ = 0,
-           secondsFinalGather_ = 0, secondsShownDirect_ = 0, secondsTotal_ = 0;
+           secondsFinalGather_ = 0, secondsShownDirect_ = 0, secondsIndirectAtCorners_ = 0,
+           secondsTotal_ = 0;
     double peakDirect_ = 0, peakLinking_ = 0, peakRefine_ = 0, peakSolve_ = 0;  // MiB
 };
 

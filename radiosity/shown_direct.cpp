@@ -12,14 +12,6 @@ namespace penumbra {
 
 namespace {
 
-// How far inside its leaf a corner is evaluated, as a fraction of the way to the centroid.
-constexpr float kInset = 1e-3f;
-
-// The barycentric weights w moved kInset of the way to the leaf's centroid.
-Vec3 inset(const Vec3& w) {
-    return (1.0f - kInset) * w + Vec3(kInset / 3.0f);
-}
-
 constexpr std::array<Vec3, 3> kCorners = {Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1)};
 // Where the interpolation is tested: the edge midpoints and the centroid.
 constexpr std::array<Vec3, 4> kTestPoints = {Vec3(0.5f, 0.5f, 0), Vec3(0, 0.5f, 0.5f),
@@ -76,7 +68,7 @@ void ShownDirect::evaluateCorners(const std::vector<int>& leaves, SolveProgress*
             if (!exposed_(e, side == 0))
                 continue;
             for (size_t k = 0; k < 3; ++k)
-                c[k + 3 * side] = sample(e, sampler.at(inset(kCorners[k])), side == 0, r);
+                c[k + 3 * side] = sample(e, sampler.at(insetWeights(kCorners[k])), side == 0, r);
         }
         rays += r;
     });
@@ -164,7 +156,7 @@ float ShownDirect::wrongness(int leaf, uint64_t& rays) {
         const Color shift = energyShift(leaf, side);
         weigh(shift, mean, mean + shift);
         for (size_t k = 0; k < kTestPoints.size(); ++k) {
-            const Vec3 at = inset(kTestPoints[k]);
+            const Vec3 at = insetWeights(kTestPoints[k]);
             Sample& s = t[4 * side + k];
             s = sample(leaf, sampler.at(at), side == 0, rays);
             if (s.covered)
@@ -225,17 +217,18 @@ void ShownDirect::refine(const Solver& solver, size_t maxLeaves, SolveProgress* 
             progress->endStage(std::to_string(mesh_.leafCount()) + " leaves");
     }
     // The totals, shifted where the mesh could not follow the light.
-    corners_.assign(mesh_.elementCount(), Corners{});
+    corners_.assign(mesh_.elementCount());
     for (const int e : mesh_.leafElements()) {
         for (size_t side = 0; side < 2; ++side) {
             const std::array<PointDirect::Parts, 3> c = shownCorners(e, side);
             for (size_t k = 0; k < 3; ++k)
-                corners_[static_cast<size_t>(e)][3 * side + k] = c[k].total();
+                corners_.at(e, side == 0, k) = c[k].total();
         }
     }
     for (const int e : unresolved_) {
-        for (size_t k = 0; k < 6; ++k)
-            corners_[static_cast<size_t>(e)][k] += energyShift(e, k / 3);
+        for (size_t side = 0; side < 2; ++side)
+            for (size_t k = 0; k < 3; ++k)
+                corners_.at(e, side == 0, k) += energyShift(e, side);
     }
     parts_ = {};
     tests_ = {};
@@ -243,19 +236,11 @@ void ShownDirect::refine(const Solver& solver, size_t maxLeaves, SolveProgress* 
 }
 
 Color ShownDirect::D(const ElementPoint& point, bool front) const {
-    if (point.element < 0 || static_cast<size_t>(point.element) >= corners_.size())
-        return Color(0.0f);
-    const Corners& c = corners_[static_cast<size_t>(point.element)];
-    const size_t o = front ? 0 : 3;
-    return point.weights.x * c[o] + point.weights.y * c[o + 1] + point.weights.z * c[o + 2];
+    return corners_.interpolate(point, front);
 }
 
 std::array<Color, 3> ShownDirect::cornerD(int element, bool front) const {
-    if (static_cast<size_t>(element) >= corners_.size())
-        return {Color(0.0f), Color(0.0f), Color(0.0f)};
-    const Corners& c = corners_[static_cast<size_t>(element)];
-    const size_t o = front ? 0 : 3;
-    return {c[o], c[o + 1], c[o + 2]};
+    return corners_.corners(element, front);
 }
 
 }  // namespace penumbra

@@ -36,6 +36,7 @@
 #pragma once
 
 #include "core/math.h"
+#include "radiosity/leaf_corner_values.h"
 #include "radiosity/point_direct.h"
 #include "radiosity/radiosity_mesh.h"
 #include "radiosity/solve_progress.h"
@@ -92,12 +93,9 @@ class ShownDirect {
     bool budgetReached() const { return budgetReached_; }
     size_t leavesSplit() const { return leavesSplit_; }
     uint64_t rays() const { return rays_; }
-    size_t memoryBytes() const { return corners_.capacity() * sizeof(Corners); }
+    size_t memoryBytes() const { return corners_.memoryBytes(); }
 
   private:
-    // Per leaf: D at its corners [front c0, c1, c2, back c0, c1, c2], in both parts while it is
-    // refined, the total after.
-    using Corners = std::array<Color, 6>;
     // D at a point, and whether the side is covered there.
     struct Sample {
         PointDirect::Parts D;
@@ -131,7 +129,7 @@ class ShownDirect {
     const Solver* solver_ = nullptr;  // during refine()
     std::vector<CornerParts> parts_;  // per element, during refine()
     std::vector<TestPoints> tests_;   // per element, during refine()
-    std::vector<Corners> corners_;    // per element; the leaves' are set
+    LeafCornerValues corners_;        // the leaves' are set
     std::vector<int> unresolved_;
     float floor_ = 0.0f;
     bool budgetReached_ = false;

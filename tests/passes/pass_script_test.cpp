@@ -142,7 +142,7 @@ TEST_F(PassScriptTest, UnknownPassKeyAtTheKeyWithTheValidOnes) {
               "specular_transfer, transfer_photons, epsilon, "
               "patch_edge_length, min_element_area, convergence, visibility_samples, "
               "max_iterations, max_refinements, iteration, cluster_min_patches, "
-              "subdivision_threshold, final_gather, direct_at_corners");
+              "subdivision_threshold, final_gather, direct_at_corners, indirect_at_corners");
     // The offending line, then a caret under its column.
     EXPECT_NE(message.find("\n      epsiln = 0.1\n      ^"), std::string::npos) << message;
 }

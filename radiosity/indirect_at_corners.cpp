@@ -1,0 +1,153 @@
+#include "radiosity/indirect_at_corners.h"
+
+#include "core/sampler.h"
+#include "core/sampling.h"
+#include "core/scene.h"
+#include "radiosity/element_sampling.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <optional>
+#include <tuple>
+
+namespace penumbra {
+
+namespace {
+
+// The corner gather's sampler seed, apart from the final gather's and the links' so that they
+// never share a sequence.
+constexpr uint32_t kCornerGatherSeed = 0x27d4eb2fu;
+
+constexpr std::array<Vec3, 3> kCorners = {Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1)};
+
+}  // namespace
+
+IndirectAtCorners::IndirectAtCorners(const Scene& scene, const RadiosityMesh& mesh,
+                                     int raysPerCorner)
+    : scene_(scene), mesh_(mesh), raysPerCorner_(raysPerCorner) {}
+
+void IndirectAtCorners::gather(const Solution& solution, SolveProgress* progress) {
+    corners_.assign(mesh_.elementCount());
+    const std::vector<int> leaves = mesh_.leafElements();
+    const std::vector<CornerStates> states = cornerStates(solution, leaves);
+    std::vector<Corner> corners = exposedCorners(leaves, states);
+    // Sorted by key, so that each run of equal keys is one gather, at its first corner (the
+    // lowest leaf id: the same whatever the threads).
+    std::sort(corners.begin(), corners.end(), [](const Corner& a, const Corner& b) {
+        return std::tie(a.key, a.leaf) < std::tie(b.key, b.leaf);
+    });
+    std::vector<size_t> runs;
+    for (size_t i = 0; i < corners.size(); ++i)
+        if (i == 0 || corners[i].key != corners[i - 1].key)
+            runs.push_back(i);
+    runs.push_back(corners.size());
+    std::atomic<uint64_t> rays{0};
+    parallelForWithProgress(runs.size() - 1, progress, [&](size_t r) {
+        uint64_t count = 0;
+        const Color L = meanReflected(solution, corners[runs[r]], count);
+        for (size_t i = runs[r]; i < runs[r + 1]; ++i)
+            corners_.at(corners[i].leaf, corners[i].front, corners[i].k) =
+                mesh_.rho(corners[i].leaf) * L;
+        rays += count;
+    });
+    fillCovered(solution, leaves, states);
+    rays_ += rays;
+}
+
+std::vector<IndirectAtCorners::CornerStates> IndirectAtCorners::cornerStates(
+    const Solution& solution, const std::vector<int>& leaves) {
+    std::vector<CornerStates> states(leaves.size());
+    std::atomic<uint64_t> rays{0};
+    tbb::parallel_for(size_t(0), leaves.size(), [&](size_t i) {
+        const int e = leaves[i];
+        if (!(maxComponent(mesh_.rho(e)) > 0.0f))
+            return;
+        const ElementSampler points(scene_, mesh_, e);
+        uint64_t count = 0;
+        for (const bool front : {true, false}) {
+            if (!solution.exposed(e, front))
+                continue;
+            for (size_t k = 0; k < 3; ++k) {
+                const ElementSample x = points.at(insetWeights(kCorners[k]));
+                states[i][(front ? 0 : 3) + k] = solution.covered(e, x, front, count)
+                                                     ? CornerState::Covered
+                                                     : CornerState::Exposed;
+            }
+        }
+        rays += count;
+    });
+    rays_ += rays;
+    return states;
+}
+
+std::vector<IndirectAtCorners::Corner> IndirectAtCorners::exposedCorners(
+    const std::vector<int>& leaves, const std::vector<CornerStates>& states) const {
+    const auto quantized = [](float v) { return static_cast<int32_t>(std::lround(v * 1e4f)); };
+    std::vector<Corner> corners;
+    for (size_t i = 0; i < leaves.size(); ++i) {
+        const int e = leaves[i];
+        const Vec3& n = mesh_.normal(e);
+        for (size_t c = 0; c < 6; ++c) {
+            if (states[i][c] != CornerState::Exposed)
+                continue;
+            const bool front = c < 3;
+            const size_t k = c % 3;
+            corners.push_back({e,
+                               front,
+                               k,
+                               {static_cast<int32_t>(mesh_.vertices(e)[k]), front ? 0 : 1,
+                                quantized(n.x), quantized(n.y), quantized(n.z)}});
+        }
+    }
+    return corners;
+}
+
+Color IndirectAtCorners::meanReflected(const Solution& solution, const Corner& corner,
+                                       uint64_t& rays) const {
+    const ElementSample x =
+        ElementSampler(scene_, mesh_, corner.leaf).at(insetWeights(kCorners[corner.k]));
+    const Frame frame = Frame::fromNormal(corner.front ? x.n : -x.n);
+    Sampler sampler(kCornerGatherSeed);
+    Color sum(0.0f);
+    const auto n = static_cast<uint32_t>(raysPerCorner_);
+    for (uint32_t j = 0; j < n; ++j) {
+        sampler.startPixelSample(IVec2(corner.key[0], corner.key[1]), j);
+        const Vec3 w = frame.toWorld(sampleCosineHemisphere(sampler.get2D()));
+        const std::optional<MeshedHit> y =
+            firstMeshedHit(scene_, mesh_, Ray{offsetRayOrigin(x.p, x.pError, x.n, w), w}, rays);
+        if (y)
+            sum += y->transmittance * solution.reflectedAt(*y);
+    }
+    return sum / static_cast<float>(n);
+}
+
+void IndirectAtCorners::fillCovered(const Solution& solution, const std::vector<int>& leaves,
+                                    const std::vector<CornerStates>& states) {
+    tbb::parallel_for(size_t(0), leaves.size(), [&](size_t i) {
+        const int e = leaves[i];
+        for (const bool front : {true, false}) {
+            const size_t o = front ? 0 : 3;
+            Color sum(0.0f);
+            int exposed = 0, covered = 0;
+            for (size_t k = 0; k < 3; ++k) {
+                covered += states[i][o + k] == CornerState::Covered;
+                if (states[i][o + k] == CornerState::Exposed) {
+                    sum += corners_.at(e, front, k);
+                    ++exposed;
+                }
+            }
+            if (covered == 0)
+                continue;
+            const Color shared =
+                exposed > 0 ? sum / static_cast<float>(exposed) : solution.fallback(e, front);
+            for (size_t k = 0; k < 3; ++k)
+                if (states[i][o + k] == CornerState::Covered)
+                    corners_.at(e, front, k) = shared;
+        }
+    });
+}
+
+}  // namespace penumbra

@@ -1,0 +1,102 @@
+// The indirect light of a radiosity solution as it is shown: gathered with rays at the corners of
+// every leaf and interpolated linearly in between, instead of the Gouraud interpolation of the
+// element means. Where surfaces meet (a ceiling along a wall, the floor at a block's foot) the
+// indirect light changes within an element: a point in the corner sees the other surface at
+// grazing angles and less of the room. The element means average that away, and the vertex
+// values, means of the elements around a vertex, show the corner as bright as the middle of the
+// face (8-12 % too bright in the Cornell box's upper corners, docs/radiosity.md).
+//
+// At a corner x (a thousandth of the leaf's size inside it, as ShownDirect's corners, so that a
+// leaf beside a contact line takes the limit from its own side) the gather is the final gather's
+// estimator (final_gather.cpp) at one point:
+//     I(x) = rho / N sum_k T_k L_r(y_k),
+// w_k cosine-distributed about the side's normal from an Owen-scrambled (0,2)-sequence, y_k the
+// first meshed surface along the ray and L_r the solution's reflected radiance of its leaf side.
+// The sequence is keyed by the mesh vertex and the side, so that the corners that several leaves
+// have at one vertex are gathered along the same directions from nearly the same point: their
+// noise is the same, and the interpolation stays continuous across the leaves' edges. A corner
+// where the side is covered (element_exposure.h) takes the mean of the leaf's exposed corners, or
+// with none the fallback the caller gives (the element's mean).
+#pragma once
+
+#include "core/math.h"
+#include "radiosity/leaf_corner_values.h"
+#include "radiosity/meshed_hit.h"
+#include "radiosity/radiosity_mesh.h"
+#include "radiosity/solve_progress.h"
+
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+namespace penumbra {
+
+class Scene;
+struct ElementSample;
+
+class IndirectAtCorners {
+  public:
+    // What gather() reads of the solver: whether an element side shows light (is exposed),
+    // whether the side is covered at a point (adding its probe rays), the reflected radiance of
+    // the leaf side a ray meets (cd/m², emission left out), and the value of a side whose
+    // corners are all covered.
+    struct Solution {
+        std::function<bool(int element, bool front)> exposed;
+        std::function<bool(int element, const ElementSample& x, bool front, uint64_t& rays)>
+            covered;
+        std::function<Color(const MeshedHit& hit)> reflectedAt;
+        std::function<Color(int element, bool front)> fallback;
+    };
+
+    // Both must outlive it. `raysPerCorner`: rays per corner and side.
+    IndirectAtCorners(const Scene& scene, const RadiosityMesh& mesh, int raysPerCorner);
+
+    // Gathers at the corners of every leaf side that is exposed and reflects; those of other
+    // elements are zero. Advances `progress`, if any, by one per gather (per vertex and plane).
+    void gather(const Solution& solution, SolveProgress* progress = nullptr);
+
+    // The interpolated indirect light at a point of a leaf (its corners weighted by the point's
+    // barycentrics), cd/m²; zero on no element or before gather().
+    Color at(const ElementPoint& point, bool front) const {
+        return corners_.interpolate(point, front);
+    }
+    // A leaf side's values at its three corners, in the order of RadiosityMesh::vertices().
+    std::array<Color, 3> corners(int element, bool front) const {
+        return corners_.corners(element, front);
+    }
+
+    uint64_t rays() const { return rays_; }
+    size_t memoryBytes() const { return corners_.memoryBytes(); }
+
+  private:
+    enum class CornerState : uint8_t { None, Exposed, Covered };
+    using CornerStates = std::array<CornerState, 6>;  // [front c0, c1, c2, back c0, c1, c2]
+    // An exposed corner of a leaf side, and the key of the corners gathered with it: the mesh
+    // vertex, the side, and the leaf's normal to a ten-thousandth (one plane).
+    struct Corner {
+        int leaf = 0;
+        bool front = true;
+        size_t k = 0;
+        std::array<int32_t, 5> key{};
+    };
+    // Per leaf: which of its sides' corners show light (exposed, reflecting), and which of those
+    // are covered (adding the probe rays).
+    std::vector<CornerStates> cornerStates(const Solution& solution,
+                                           const std::vector<int>& leaves);
+    std::vector<Corner> exposedCorners(const std::vector<int>& leaves,
+                                       const std::vector<CornerStates>& states) const;
+    // The mean reflected radiance that the corner's rays meet (the gather less rho).
+    Color meanReflected(const Solution& solution, const Corner& corner, uint64_t& rays) const;
+    // The covered corners: the mean of their side's exposed corners, or the fallback.
+    void fillCovered(const Solution& solution, const std::vector<int>& leaves,
+                     const std::vector<CornerStates>& states);
+
+    const Scene& scene_;
+    const RadiosityMesh& mesh_;
+    int raysPerCorner_;
+    LeafCornerValues corners_;
+    uint64_t rays_ = 0;
+};
+
+}  // namespace penumbra
