@@ -48,12 +48,15 @@ void IndirectAtCorners::gather(const Solution& solution, SolveProgress* progress
     parallelForWithProgress(runs.size() - 1, progress, [&](size_t r) {
         uint64_t count = 0;
         const Color L = meanReflected(solution, corners[runs[r]], count);
-        for (size_t i = runs[r]; i < runs[r + 1]; ++i)
-            corners_.at(corners[i].leaf, corners[i].front, corners[i].k) =
-                mesh_.rho(corners[i].leaf) * L;
+        for (size_t i = runs[r]; i < runs[r + 1]; ++i) {
+            const Corner& corner = corners[i];
+            corners_.at(corner.leaf, corner.front, corner.k) =
+                mesh_.rho(corner.leaf) * L + solution.unseen(corner.leaf, corner.front);
+        }
         rays += count;
     });
     fillCovered(solution, leaves, states);
+    corners_.anchorTVertices(mesh_);
     rays_ += rays;
 }
 
@@ -131,20 +134,19 @@ void IndirectAtCorners::fillCovered(const Solution& solution, const std::vector<
         for (const bool front : {true, false}) {
             const size_t o = front ? 0 : 3;
             Color sum(0.0f);
-            int exposed = 0, covered = 0;
+            int exposed = 0;
             for (size_t k = 0; k < 3; ++k) {
-                covered += states[i][o + k] == CornerState::Covered;
                 if (states[i][o + k] == CornerState::Exposed) {
                     sum += corners_.at(e, front, k);
                     ++exposed;
                 }
             }
-            if (covered == 0)
+            if (exposed == 3)
                 continue;
             const Color shared =
                 exposed > 0 ? sum / static_cast<float>(exposed) : solution.fallback(e, front);
             for (size_t k = 0; k < 3; ++k)
-                if (states[i][o + k] == CornerState::Covered)
+                if (states[i][o + k] != CornerState::Exposed)
                     corners_.at(e, front, k) = shared;
         }
     });

@@ -39,21 +39,23 @@ class IndirectAtCorners {
   public:
     // What gather() reads of the solver: whether an element side shows light (is exposed),
     // whether the side is covered at a point (adding its probe rays), the reflected radiance of
-    // the leaf side a ray meets (cd/m², emission left out), and the value of a side whose
-    // corners are all covered.
+    // the leaf side a ray meets (cd/m², emission left out), the indirect light a side reflects
+    // that rays cannot gather (what the specular transfer carried through solid glass), added
+    // to its gathered corners, and the value shown at a side with no exposed corner.
     struct Solution {
         std::function<bool(int element, bool front)> exposed;
         std::function<bool(int element, const ElementSample& x, bool front, uint64_t& rays)>
             covered;
         std::function<Color(const MeshedHit& hit)> reflectedAt;
-        std::function<Color(int element, bool front)> fallback;
+        std::function<Color(int element, bool front)> unseen, fallback;
     };
 
     // Both must outlive it. `raysPerCorner`: rays per corner and side.
     IndirectAtCorners(const Scene& scene, const RadiosityMesh& mesh, int raysPerCorner);
 
-    // Gathers at the corners of every leaf side that is exposed and reflects; those of other
-    // elements are zero. Advances `progress`, if any, by one per gather (per vertex and plane).
+    // Gathers at the corners of every leaf side that is exposed and reflects; the other leaves'
+    // corners take the fallback. Advances `progress`, if any, by one per gather (per vertex and
+    // plane).
     void gather(const Solution& solution, SolveProgress* progress = nullptr);
 
     // The interpolated indirect light at a point of a leaf (its corners weighted by the point's
@@ -88,7 +90,9 @@ class IndirectAtCorners {
                                        const std::vector<CornerStates>& states) const;
     // The mean reflected radiance that the corner's rays meet (the gather less rho).
     Color meanReflected(const Solution& solution, const Corner& corner, uint64_t& rays) const;
-    // The covered corners: the mean of their side's exposed corners, or the fallback.
+    // The corners not gathered: covered ones the mean of their side's exposed corners; those of
+    // a side with none (covered, hidden under a coincident face, or not reflecting) the
+    // fallback, so that the vertex values around them (the bake's) are not pulled down.
     void fillCovered(const Solution& solution, const std::vector<int>& leaves,
                      const std::vector<CornerStates>& states);
 

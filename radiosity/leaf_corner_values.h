@@ -37,6 +37,13 @@ class LeafCornerValues {
     }
     size_t memoryBytes() const { return values_.capacity() * sizeof(std::array<Color, 6>); }
 
+    // Where a leaf's corner lies on the edge of a coarser leaf of the same plane (a T-vertex),
+    // sets it on both sides to the coarser leaf's interpolation along that edge, coarse leaves
+    // first, so that the field is continuous across the edge (Baum, Mann, Smith and Winget 1991's
+    // anchoring, as RadiosityMesh::setElementValues does for the vertex values): no crack in the
+    // view, and the bake's fan of the coarse leaf shows the same values.
+    void anchorTVertices(const RadiosityMesh& mesh);
+
   private:
     std::vector<std::array<Color, 6>> values_;  // per element: [front c0, c1, c2, back c0, c1, c2]
 };

@@ -208,7 +208,12 @@ void RadiositySolver::showIndirectAtCorners(SolveProgress* progress) {
             [this](const MeshedHit& y) {
                 return reflectedAt(scene_, mesh_, *exposure_, *radiance_, y);
             },
-        .fallback = [this](int e, bool side) { return elementIndirect(e, side); }};
+        .unseen =
+            [this](int e, bool side) {
+                return mesh_.rho(e) * irradiance_->transferredD(node(e, side));
+            },
+        .fallback =
+            exposure_->shownValues([this](int e, bool side) { return elementIndirect(e, side); })};
     beginStage("indirect light at the corners", mesh_.leafCount());
     indirectCorners_->gather(solution, progress_);
     endStage(std::to_string(indirectCorners_->rays()) + " rays");
@@ -220,10 +225,8 @@ void RadiositySolver::showIndirectAtCorners(SolveProgress* progress) {
 }
 
 Color RadiositySolver::shownIndirect(const ElementPoint& point, bool front) const {
-    if (!indirectCorners_ || !(exposure_->fraction(node(point.element, front)) > 0.0f))
-        return vertexIndirect_.interpolate(mesh_, point, front);
-    return indirectCorners_->at(point, front) +
-           mesh_.rho(point.element) * irradiance_->transferredD(node(point.element, front));
+    return indirectCorners_ ? indirectCorners_->at(point, front)
+                            : vertexIndirect_.interpolate(mesh_, point, front);
 }
 
 void RadiositySolver::computeVertexValues() {
@@ -259,10 +262,8 @@ void RadiositySolver::computeVertexValues() {
         }
         if (indirectCorners_) {
             const std::array<Color, 3> indirect = indirectCorners_->corners(element, side);
-            const Color transferred =
-                mesh_.rho(element) * irradiance_->transferredD(node(element, side));
             for (size_t k = 0; k < 3; ++k)
-                corners[k] += indirect[k] + transferred;
+                corners[k] += indirect[k];
         }
         return corners;
     });

@@ -210,9 +210,9 @@ class RadiositySolver : public RadiositySolution {
     // The sources' direct light at the leaves' corners, on a mesh refined for it (shown_direct.h;
     // RadiositySettings::directAtCorners).
     void showDirectAtCorners();
-    // What the solution shows of the indirect light (and of the transferred flux's first
-    // reflection) at a point: the corners' gather interpolated, or at a side that shows another's
-    // light or none, the vertex values' (Gouraud) interpolation.
+    // What the solution shows of the indirect light (the transferred flux's first reflection
+    // included) at a point: the corners' interpolation (indirect_at_corners.h), or without them
+    // the vertex values' (Gouraud).
     Color shownIndirect(const ElementPoint& point, bool front) const;
     void computeVertexValues();
     // The progress sink of solve(), if any (these do nothing without one).

@@ -230,6 +230,7 @@ void ShownDirect::refine(const Solver& solver, size_t maxLeaves, SolveProgress* 
             for (size_t k = 0; k < 3; ++k)
                 corners_.at(e, side == 0, k) += energyShift(e, side);
     }
+    corners_.anchorTVertices(mesh_);
     parts_ = {};
     tests_ = {};
     solver_ = nullptr;

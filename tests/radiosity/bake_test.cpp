@@ -220,6 +220,7 @@ class Bake : public testing::Test {
         mesh_ = new RadiosityMesh(*scene_, testSettings().meshing(*scene_));
         solver_ = new RadiositySolver(*scene_, *mesh_, testSettings());
         solver_->solve();
+        solver_->showIndirectAtCorners();
     }
     static void TearDownTestSuite() {
         delete solver_;

@@ -70,6 +70,7 @@ IndirectAtCorners::Solution wallLitSolution() {
                 [](const MeshedHit& y) {
                     return y.hit.ng.x > 0.5f && y.front ? Color(kWallRadiance) : Color(0.0f);
                 },
+            .unseen = [](int, bool) { return Color(0.0f); },
             .fallback = [](int, bool) { return Color(0.0f); }};
 }
 

@@ -1,0 +1,55 @@
+#include "radiosity/leaf_corner_values.h"
+
+#include <algorithm>
+#include <unordered_map>
+
+namespace penumbra {
+
+namespace {
+
+// Whether two leaves lie in one plane: a coarse leaf's values along its edge are those of its
+// own plane, not of a face meeting it at a crease.
+bool coplanar(const RadiosityMesh& mesh, int a, int b) {
+    return glm::dot(mesh.normal(a), mesh.normal(b)) > 0.9999f;
+}
+
+}  // namespace
+
+void LeafCornerValues::anchorTVertices(const RadiosityMesh& mesh) {
+    std::vector<int> leaves = mesh.leafElements();
+    std::unordered_multimap<uint32_t, std::pair<int, size_t>> cornersAt;  // vertex -> (leaf, k)
+    for (const int e : leaves)
+        for (size_t k = 0; k < 3; ++k)
+            cornersAt.emplace(mesh.vertices(e)[k], std::make_pair(e, k));
+    // Coarse first: a leaf's own corners are anchored before it anchors those on its edges.
+    std::stable_sort(leaves.begin(), leaves.end(),
+                     [&](int a, int b) { return mesh.area(a) > mesh.area(b); });
+    for (const int e : leaves) {
+        const std::vector<uint32_t> ring = mesh.leafBoundary(e);
+        if (ring.size() == 3)
+            continue;
+        const std::array<uint32_t, 3>& v = mesh.vertices(e);
+        // The ring runs counter-clockwise from corner 0; corner c's edge ends at corner c + 1.
+        size_t edge = 0;
+        for (const uint32_t t : ring) {
+            if (t == v[(edge + 1) % 3]) {
+                ++edge;
+                continue;
+            }
+            if (t == v[edge])
+                continue;
+            const Vec3 a = mesh.position(v[edge]), b = mesh.position(v[(edge + 1) % 3]);
+            const float s = glm::dot(mesh.position(t) - a, b - a) / glm::dot(b - a, b - a);
+            for (const bool front : {true, false}) {
+                const Color value =
+                    (1.0f - s) * at(e, front, edge) + s * at(e, front, (edge + 1) % 3);
+                const auto [first, last] = cornersAt.equal_range(t);
+                for (auto it = first; it != last; ++it)
+                    if (coplanar(mesh, e, it->second.first))
+                        at(it->second.first, front, it->second.second) = value;
+            }
+        }
+    }
+}
+
+}  // namespace penumbra
