@@ -62,7 +62,8 @@ class ElementExposure {
     // coincident_faces.h; for shownValues and the solution's radiance()).
     std::pair<int, bool> shownSide(int element, bool front) const;
     // The per-element value function for SideVertexValues::compute that shows `value` at the
-    // exposed leaf sides and the exposed mean of an ancestor's leaves at covered ones.
+    // exposed leaf sides and the exposed mean of an ancestor's leaves at covered ones. It holds
+    // the values of the mesh as it is now: make it anew after the mesh is refined.
     std::function<Color(int, bool)> shownValues(const std::function<Color(int, bool)>& value) const;
 
     const SealedInteriors& sealed() const { return sealed_; }

@@ -48,6 +48,9 @@ constexpr int kSubdivisionPasses = 4;
 // the solve's, and at least kShownMinLeaves (a lone floor under a downlight needs ten thousand).
 constexpr size_t kShownLeavesPerLeaf = 4;
 constexpr size_t kShownMinLeaves = 65536;
+// A reflectance below which a channel's D is not recovered from its reflected light
+// (elementDirect / rho): a tiny rho would blow its rounding up into a huge D.
+constexpr float kMinReflectance = 1e-4f;
 
 }  // namespace
 
@@ -165,20 +168,22 @@ void RadiositySolver::showDirectAtCorners() {
         return exposure_->fraction(node(e, side)) > 0.0f;
     });
     const size_t maxLeaves = std::max(kShownLeavesPerLeaf * mesh_.leafCount(), kShownMinLeaves);
+    // An element side's mean D over its exposed part, from its first reflection of the sources.
+    const auto exposedMean = [this](int e, bool side) {
+        const Color rho = mesh_.rho(e);
+        const Color direct = radiance_->elementDirect(e, side);
+        Color D(0.0f);
+        for (int c = 0; c < 3; ++c)
+            D[c] = rho[c] > kMinReflectance ? direct[c] / rho[c] : 0.0f;
+        return glm::max(D - irradiance_->depositedSources(node(e, side)), Color(0.0f));
+    };
     const ShownDirect::Solver solver{
         .split = [this](int leaf,
                         float minChildArea) { return refiner_->splitLeaf(leaf, minChildArea); },
         .settle = [this] { refiner_->settleSplits(); },
         .punctualMean = [this](int e, bool side) { return irradiance_->punctual(node(e, side)); },
-        .exposedMean =
-            [this](int e, bool side) {
-                const Color rho = mesh_.rho(e);
-                const Color direct = radiance_->elementDirect(e, side);
-                return Color(rho.r > 0.0f ? direct.r / rho.r : 0.0f,
-                             rho.g > 0.0f ? direct.g / rho.g : 0.0f,
-                             rho.b > 0.0f ? direct.b / rho.b : 0.0f) -
-                       irradiance_->depositedSources(node(e, side));
-            },
+        .exposedMean = exposedMean,
+        .shownMeans = [this, exposedMean] { return exposure_->shownValues(exposedMean); },
         .covered =
             [this](int e, const ElementSample& x, bool side, uint64_t& rays) {
                 return exposure_->covered(e, x, side ? x.n : -x.n, rays);

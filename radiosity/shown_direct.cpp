@@ -218,11 +218,22 @@ void ShownDirect::refine(const Solver& solver, size_t maxLeaves, SolveProgress* 
     }
     // The totals, shifted where the mesh could not follow the light.
     corners_.assign(mesh_.elementCount());
+    const auto shownMean = solver_->shownMeans();
     for (const int e : mesh_.leafElements()) {
         for (size_t side = 0; side < 2; ++side) {
+            const bool front = side == 0;
+            if (!exposed_(e, front)) {
+                // Shows the element mean the solution would show without corners (that of the
+                // face it lies under, for a hidden coincident face), so that the vertex values
+                // around it are not pulled down.
+                const Color D = shownMean(e, front);
+                for (size_t k = 0; k < 3; ++k)
+                    corners_.at(e, front, k) = D;
+                continue;
+            }
             const std::array<PointDirect::Parts, 3> c = shownCorners(e, side);
             for (size_t k = 0; k < 3; ++k)
-                corners_.at(e, side == 0, k) = c[k].total();
+                corners_.at(e, front, k) = c[k].total();
         }
     }
     for (const int e : unresolved_) {

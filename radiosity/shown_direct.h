@@ -75,6 +75,10 @@ class ShownDirect {
         std::function<int(int leaf, float minChildArea)> split;
         std::function<void()> settle;
         std::function<Color(int element, bool front)> punctualMean, exposedMean;
+        // Makes, once the mesh is refined (it reads the mesh as it is then), the D that a side
+        // showing no light of its own (covered, or hidden under a coincident face) is shown
+        // with: the exposed mean of what it shows (ElementExposure::shownValues).
+        std::function<std::function<Color(int element, bool front)>()> shownMeans;
         std::function<bool(int element, const ElementSample& x, bool front, uint64_t& rays)>
             covered;
     };
