@@ -206,8 +206,7 @@ void RadiositySolver::showIndirectAtCorners(SolveProgress* progress) {
         .exposed = [this](int e, bool side) { return exposure_->fraction(node(e, side)) > 0.0f; },
         .covered =
             [this](int e, const ElementSample& x, bool side, uint64_t& rays) {
-                return exposure_->partlyCovered(node(e, side)) &&
-                       exposure_->covered(e, x, side ? x.n : -x.n, rays);
+                return exposure_->covered(e, x, side ? x.n : -x.n, rays);
             },
         .reflectedAt =
             [this](const MeshedHit& y) {
