@@ -12,11 +12,13 @@
 //     I(x) = rho / N sum_k T_k L_r(y_k),
 // w_k cosine-distributed about the side's normal from an Owen-scrambled (0,2)-sequence, y_k the
 // first meshed surface along the ray and L_r the solution's reflected radiance of its leaf side.
-// The sequence is keyed by the mesh vertex and the side, so that the corners that several leaves
-// have at one vertex are gathered along the same directions from nearly the same point: their
-// noise is the same, and the interpolation stays continuous across the leaves' edges. A corner
-// where the side is covered (element_exposure.h) takes the mean of the leaf's exposed corners, or
-// with none the fallback the caller gives (the element's mean).
+// The corners that several leaves have at one mesh vertex, on one side of one plane, are gathered
+// once (from the first leaf's corner), so that they show one value and the interpolation stays
+// continuous across the leaves' edges; a crease keeps a value per plane. Every corner is probed
+// for covers first (element_exposure.h): a covered one, which would gather from under a block or
+// inside a solid, takes the mean of its leaf side's exposed corners, or with none the fallback
+// the caller gives (the element mean the solution shows without corners). The values are then
+// anchored at T-vertices (leaf_corner_values.h).
 #pragma once
 
 #include "core/math.h"
