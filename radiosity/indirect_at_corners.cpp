@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <limits>
 #include <optional>
 #include <tuple>
 
@@ -31,6 +32,8 @@ IndirectAtCorners::IndirectAtCorners(const Scene& scene, const RadiosityMesh& me
 
 void IndirectAtCorners::gather(const Solution& solution, SolveProgress* progress) {
     corners_.assign(mesh_.elementCount());
+    reach_.assign(mesh_.elementCount(), {});
+    means_.assign(mesh_.elementCount(), {});
     const std::vector<int> leaves = mesh_.leafElements();
     const std::vector<CornerStates> states = cornerStates(solution, leaves);
     std::vector<Corner> corners = exposedCorners(leaves, states);
@@ -47,16 +50,20 @@ void IndirectAtCorners::gather(const Solution& solution, SolveProgress* progress
     std::atomic<uint64_t> rays{0};
     parallelForWithProgress(runs.size() - 1, progress, [&](size_t r) {
         uint64_t count = 0;
-        const Color L = meanReflected(solution, corners[runs[r]], count);
+        const Gathered g = meanReflected(solution, corners[runs[r]], count);
         for (size_t i = runs[r]; i < runs[r + 1]; ++i) {
             const Corner& corner = corners[i];
             corners_.at(corner.leaf, corner.front, corner.k) =
-                mesh_.rho(corner.leaf) * L + solution.unseen(corner.leaf, corner.front);
+                mesh_.rho(corner.leaf) * g.L + solution.unseen(corner.leaf, corner.front);
+            reach_[static_cast<size_t>(corner.leaf)][(corner.front ? 0 : 3) + corner.k] = g.reach;
         }
         rays += count;
     });
     fillCovered(solution, leaves, states);
     corners_.anchorTVertices(mesh_);
+    for (const int e : leaves)
+        for (const bool front : {true, false})
+            means_[static_cast<size_t>(e)][front ? 0 : 1] = solution.fallback(e, front);
     rays_ += rays;
 }
 
@@ -108,23 +115,47 @@ std::vector<IndirectAtCorners::Corner> IndirectAtCorners::exposedCorners(
     return corners;
 }
 
-Color IndirectAtCorners::meanReflected(const Solution& solution, const Corner& corner,
-                                       uint64_t& rays) const {
+IndirectAtCorners::Gathered IndirectAtCorners::meanReflected(const Solution& solution,
+                                                             const Corner& corner,
+                                                             uint64_t& rays) const {
     const ElementSample x =
         ElementSampler(scene_, mesh_, corner.leaf).at(insetWeights(kCorners[corner.k]));
     const Frame frame = Frame::fromNormal(corner.front ? x.n : -x.n);
     Sampler sampler(kCornerGatherSeed);
     Color sum(0.0f);
+    double inverseDistances = 0.0;
     const auto n = static_cast<uint32_t>(raysPerCorner_);
     for (uint32_t j = 0; j < n; ++j) {
         sampler.startPixelSample(IVec2(corner.key[0], corner.key[1]), j);
         const Vec3 w = frame.toWorld(sampleCosineHemisphere(sampler.get2D()));
         const std::optional<MeshedHit> y =
             firstMeshedHit(scene_, mesh_, Ray{offsetRayOrigin(x.p, x.pError, x.n, w), w}, rays);
-        if (y)
-            sum += y->transmittance * solution.reflectedAt(*y);
+        if (!y)
+            continue;
+        sum += y->transmittance * solution.reflectedAt(*y);
+        inverseDistances += 1.0 / std::max(double(glm::length(y->hit.p - x.p)), 1e-6);
     }
-    return sum / static_cast<float>(n);
+    const float reach = inverseDistances > 0.0 ? static_cast<float>(n / inverseDistances)
+                                               : std::numeric_limits<float>::infinity();
+    return {sum / static_cast<float>(n), reach};
+}
+
+Color IndirectAtCorners::at(const ElementPoint& point, bool front) const {
+    if (point.element < 0 || static_cast<size_t>(point.element) >= reach_.size())
+        return Color(0.0f);
+    const std::array<Color, 3> c = corners_.corners(point.element, front);
+    const std::array<Vec3, 3> x = mesh_.corners(point.element);
+    const Vec3 p = point.weights.x * x[0] + point.weights.y * x[1] + point.weights.z * x[2];
+    const auto e = static_cast<size_t>(point.element);
+    const Color mean = means_[e][front ? 0 : 1];
+    Color L = mean;
+    for (size_t k = 0; k < 3; ++k) {
+        const float reach = reach_[e][(front ? 0 : 3) + k];
+        const float d = glm::length(p - x[k]);
+        const float w = d > reach ? reach / d : 1.0f;
+        L += point.weights[static_cast<int>(k)] * w * (c[k] - mean);
+    }
+    return L;
 }
 
 void IndirectAtCorners::fillCovered(const Solution& solution, const std::vector<int>& leaves,

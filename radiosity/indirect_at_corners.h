@@ -4,7 +4,7 @@
 // indirect light changes within an element: a point in the corner sees the other surface at
 // grazing angles and less of the room. The element means average that away, and the vertex
 // values, means of the elements around a vertex, show the corner as bright as the middle of the
-// face (8-12 % too bright in the Cornell box's upper corners, docs/radiosity.md).
+// face (8-11 % too bright in the Cornell box's upper corners, docs/radiosity.md).
 //
 // At a corner x (a thousandth of the leaf's size inside it, as ShownDirect's corners, so that a
 // leaf beside a contact line takes the limit from its own side) the gather is the final gather's
@@ -19,6 +19,14 @@
 // inside a solid, takes the mean of its leaf side's exposed corners, or with none the fallback
 // the caller gives (the element mean the solution shows without corners). The values are then
 // anchored at T-vertices (leaf_corner_values.h).
+//
+// Between its corners a leaf shows m + sum_k b_k w_k (c_k - m): m the element mean (the
+// fallback), b_k the point's barycentrics, w_k = min(1, R_k / d_k), d_k its distance to corner k
+// and R_k the harmonic mean length of that corner's rays, how far its value holds (the validity
+// radius of Ward, Rubinstein and Clear 1988, "A Ray Tracing Solution for Diffuse
+// Interreflection"). On leaves smaller than their corners' reach this is the corners' linear
+// interpolation; a large leaf touching another surface (a stair tread's metre-long face at the
+// wall) keeps the contact's darkness near the contact instead of along its length.
 #pragma once
 
 #include "core/math.h"
@@ -60,11 +68,10 @@ class IndirectAtCorners {
     // plane).
     void gather(const Solution& solution, SolveProgress* progress = nullptr);
 
-    // The interpolated indirect light at a point of a leaf (its corners weighted by the point's
-    // barycentrics), cd/m²; zero on no element or before gather().
-    Color at(const ElementPoint& point, bool front) const {
-        return corners_.interpolate(point, front);
-    }
+    // The indirect light at a point of a leaf, cd/m²: its corners weighted by the point's
+    // barycentrics and by how far their values hold (above); zero on no element or before
+    // gather().
+    Color at(const ElementPoint& point, bool front) const;
     // A leaf side's values at its three corners, in the order of RadiosityMesh::vertices().
     std::array<Color, 3> corners(int element, bool front) const {
         return corners_.corners(element, front);
@@ -84,14 +91,19 @@ class IndirectAtCorners {
         size_t k = 0;
         std::array<int32_t, 5> key{};
     };
+    // A corner's gather: the mean reflected radiance its rays meet (the gather less rho), and
+    // the harmonic mean of their lengths, how far from the corner its value holds.
+    struct Gathered {
+        Color L;
+        float reach = 0.0f;
+    };
     // Per leaf: which of its sides' corners show light (exposed, reflecting), and which of those
     // are covered (adding the probe rays).
     std::vector<CornerStates> cornerStates(const Solution& solution,
                                            const std::vector<int>& leaves);
     std::vector<Corner> exposedCorners(const std::vector<int>& leaves,
                                        const std::vector<CornerStates>& states) const;
-    // The mean reflected radiance that the corner's rays meet (the gather less rho).
-    Color meanReflected(const Solution& solution, const Corner& corner, uint64_t& rays) const;
+    Gathered meanReflected(const Solution& solution, const Corner& corner, uint64_t& rays) const;
     // The corners not gathered: covered ones the mean of their side's exposed corners; those of
     // a side with none (covered, hidden under a coincident face, or not reflecting) the
     // fallback, so that the vertex values around them (the bake's) are not pulled down.
@@ -102,6 +114,8 @@ class IndirectAtCorners {
     const RadiosityMesh& mesh_;
     int raysPerCorner_;
     LeafCornerValues corners_;
+    std::vector<std::array<float, 6>> reach_;  // per leaf corner, as corners_ (0: covered)
+    std::vector<std::array<Color, 2>> means_;  // per leaf side [front, back]: fallback()
     uint64_t rays_ = 0;
 };
 

@@ -147,5 +147,42 @@ TEST(IndirectAtCorners, LeavesMeetingAtAVertexShowOneValueThere) {
     EXPECT_GT(shared, 100);
 }
 
+// Between its corners a leaf shows their interpolation only as far as each corner's value holds
+// (the harmonic mean length of its rays): at a leaf's centroid, a corner at the wall's foot, whose
+// rays meet the wall a few centimetres away, counts for less, and the element mean (the stand-in
+// solution's fallback, here a constant) for more; far from the wall, where every corner's rays
+// run far, the leaf shows its corners' interpolation.
+TEST(IndirectAtCorners, ACornerCountsOnlyAsFarAsItsRaysReach) {
+    const WallAndFloor s = wallAndFloor();
+    IndirectAtCorners corners(*s.scene, *s.mesh, 64);
+    IndirectAtCorners::Solution solution = wallLitSolution();
+    const Color mean(0.123f);
+    solution.fallback = [&](int, bool) { return mean; };
+    corners.gather(solution);
+    const float wallX = s.scene->bounds().lo.x;
+    int atFoot = 0, far = 0;
+    for (const int e : s.mesh->leafElements()) {
+        if (!(s.mesh->normal(e).y > 0.5f))
+            continue;
+        const ElementPoint centroid{e, Vec3(1.0f / 3.0f)};
+        const std::array<Color, 3> c = corners.corners(e, true);
+        const Color interpolated = (c[0] + c[1] + c[2]) / 3.0f;
+        const Color shown = corners.at(centroid, true);
+        float nearest = INFINITY;
+        for (const Vec3& p : s.mesh->corners(e))
+            nearest = std::min(nearest, p.x - wallX);
+        if (nearest < 1e-4f) {
+            // Between the mean and the interpolation, nearer the mean than the interpolation is.
+            EXPECT_LT(std::abs(shown.g - mean.g), std::abs(interpolated.g - mean.g)) << e;
+            ++atFoot;
+        } else if (nearest > 0.5f * kDepth) {
+            EXPECT_NEAR(shown.g, interpolated.g, 1e-5f * interpolated.g + 1e-7f) << e;
+            ++far;
+        }
+    }
+    EXPECT_GT(atFoot, 10);
+    EXPECT_GT(far, 10);
+}
+
 }  // namespace
 }  // namespace penumbra::test
