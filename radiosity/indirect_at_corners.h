@@ -78,7 +78,10 @@ class IndirectAtCorners {
     }
 
     uint64_t rays() const { return rays_; }
-    size_t memoryBytes() const { return corners_.memoryBytes(); }
+    size_t memoryBytes() const {
+        return corners_.memoryBytes() + reach_.capacity() * sizeof(reach_[0]) +
+               means_.capacity() * sizeof(means_[0]);
+    }
 
   private:
     enum class CornerState : uint8_t { None, Exposed, Covered };

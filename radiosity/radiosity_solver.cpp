@@ -415,7 +415,6 @@ void RadiositySolver::transferThroughSpecular(const std::vector<FluxDeposit>& de
     iteration_->run(settings_.convergence, rounds_, stage + ": gather", progress_);
     beginStage(stage + ": push-pull of the direct part, vertex values", 0);
     radiance_->computeDirectPart(*irradiance_);
-    computeVertexValues();
     // The corners' gather saw the solution before this transfer.
     indirectCorners_.reset();
     computeVertexValues();
@@ -475,7 +474,8 @@ PassStats RadiositySolver::stats() const {
                     links_->clusters() * (sizeof(Cluster) + sizeof(std::vector<Link>));
     memory += vertexReflected_.memoryBytes() + vertexIndirect_.memoryBytes() +
               vertexRest_.memoryBytes() + radiance_->directPartBytes() + exposure_->memoryBytes() +
-              (shown_ ? shown_->memoryBytes() : 0);
+              (shown_ ? shown_->memoryBytes() : 0) +
+              (indirectCorners_ ? indirectCorners_->memoryBytes() : 0);
     const std::vector<RadiosityIteration>& iterations = iteration_->iterations();
     const RadiosityIteration last = iterations.empty() ? RadiosityIteration{} : iterations.back();
     // The reflected luminous flux of each part, pi sum A Y(L) over the leaf sides (lm).
