@@ -15,8 +15,21 @@
 //    estimator of Wallace, Elmquist and Haines 1989, "A Ray Tracing Algorithm for Progressive
 //    Radiosity", with the analytic form factor in place of their disc approximation). A point
 //    casts kRaysPerPoint rays in all, shared among the lights in proportion to their unoccluded
-//    light there (at least one each, at most a light's kLightPoints): the lamps of a hall do not
-//    each need sixteen rays from every wall.
+//    light there (at least kMinRays each): the lamps of a hall do not each need sixteen rays
+//    from every wall.
+//  - a light that gives at least 1/kPenumbraShare of the point's unoccluded light and whose rays
+//    disagree (a penumbra) is estimated by parts instead: the light is cut into cells (its
+//    patches split 1:4, at least kMinCells in all), and D sums each cell's exact form factor
+//    times the visible fraction of its own points (the light's fraction where it has none), so
+//    that only the cells on the occluder's outline are estimated at all. It gets kPenumbraRays
+//    rays, then twice as many at a time until D changes by less than kSettled of the point's
+//    unoccluded light, or it runs out of points. One ratio over a whole light was 13 % low
+//    beside a block in a furnace box whose walls are the lights (a large light, the same value
+//    whichever of its parts are hidden); by parts, within 0.5 %. Rays that all find such a light
+//    hidden are checked with kConfirmRays before it is taken as dark: four points of a wall had
+//    all fallen behind a block that hid 37 % of it.
+//  - the fixed points are point k of a (0,2)-sequence over the light's cells by area, so that
+//    every prefix a point traces is spread over the whole light.
 //  Far from a patch (more than kFarField times its circumradius) its form factor is the point
 //  kernel A cos cos / (pi r²), within 1 % there (form_factor.h's measurements of the disc
 //  approximation: 0.16 % at 16 times the element's size) and without the contour's trigonometry.
@@ -40,10 +53,14 @@ class Scene;
 
 class PointDirect {
   public:
-    // Points per light for its visible fraction; a light's share of them follows its patches'
-    // areas.
-    static constexpr int kLightPoints = 16;
+    static constexpr int kLightPoints = 256;
+    static constexpr size_t kMinCells = 64;
     static constexpr int kRaysPerPoint = 32;
+    static constexpr size_t kMinRays = 4;
+    static constexpr float kPenumbraShare = 16.0f;
+    static constexpr size_t kConfirmRays = 16;
+    static constexpr size_t kPenumbraRays = 32;
+    static constexpr float kSettled = 0.01f;
     static constexpr float kFarField = 10.0f;
 
     // Both must outlive it. The emitters are the mesh's emissive patches as they are now, each
@@ -75,13 +92,23 @@ class PointDirect {
     };
     // The unoccluded form factor from the differential area at x (normal n) to the patch.
     static float formFactor(const Vec3& x, const Vec3& n, const Patch& patch);
-    // One emissive scene mesh: its patches and the fixed points of its visible fraction, in an
-    // order whose every prefix is spread over its patches.
+    // One emissive scene mesh: its patches, their cells, and the fixed points of its visible
+    // fraction, in an order whose every prefix is spread over the light.
     struct AreaLight {
-        std::vector<Patch> patches;
+        std::vector<Patch> patches, cells;
+        std::vector<uint32_t> cellPatch;  // the index in `patches` of each cell's patch
         std::vector<ElementSample> points;
+        std::vector<uint32_t> pointCell;  // the index in `cells` of each point's cell
         bool twoSided = false;
     };
+    class LightRays;
+    // A light's D at x, its unoccluded part given, `total` the unoccluded D of every light.
+    Color emitted(const AreaLight& light, const ElementSample& x, const Vec3& n,
+                  const Color& unoccluded, float total, uint64_t& rays) const;
+    static Patch makePatch(const std::array<Vec3, 3>& corners, const Vec3& normal, const Color& Le,
+                           bool front, bool back);
+    static void placePoints(const Scene& scene, const RadiosityMesh& mesh,
+                            const std::vector<int>& patches, uint32_t sceneMesh, AreaLight& light);
 
     const Scene& scene_;
     std::vector<const Light*> punctual_;
