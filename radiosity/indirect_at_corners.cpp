@@ -164,11 +164,14 @@ void IndirectAtCorners::fillCovered(const Solution& solution, const std::vector<
         const int e = leaves[i];
         for (const bool front : {true, false}) {
             const size_t o = front ? 0 : 3;
+            std::array<float, 6>& reach = reach_[static_cast<size_t>(e)];
             Color sum(0.0f);
+            float farthest = 0.0f;
             int exposed = 0;
             for (size_t k = 0; k < 3; ++k) {
                 if (states[i][o + k] == CornerState::Exposed) {
                     sum += corners_.at(e, front, k);
+                    farthest = std::max(farthest, reach[o + k]);
                     ++exposed;
                 }
             }
@@ -176,9 +179,12 @@ void IndirectAtCorners::fillCovered(const Solution& solution, const std::vector<
                 continue;
             const Color shared =
                 exposed > 0 ? sum / static_cast<float>(exposed) : solution.fallback(e, front);
-            for (size_t k = 0; k < 3; ++k)
-                if (states[i][o + k] != CornerState::Exposed)
+            for (size_t k = 0; k < 3; ++k) {
+                if (states[i][o + k] != CornerState::Exposed) {
                     corners_.at(e, front, k) = shared;
+                    reach[o + k] = farthest;
+                }
+            }
         }
     });
 }

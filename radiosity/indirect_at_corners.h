@@ -117,7 +117,9 @@ class IndirectAtCorners {
     const RadiosityMesh& mesh_;
     int raysPerCorner_;
     LeafCornerValues corners_;
-    std::vector<std::array<float, 6>> reach_;  // per leaf corner, as corners_ (0: covered)
+    std::vector<std::array<float, 6>>
+        reach_;  // per leaf corner, as corners_ (a covered corner: the farthest of its leaf side's
+                 // exposed corners, 0 with none)
     std::vector<std::array<Color, 2>> means_;  // per leaf side [front, back]: fallback()
     uint64_t rays_ = 0;
 };
