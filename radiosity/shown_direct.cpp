@@ -121,12 +121,8 @@ std::vector<int> ShownDirect::toSplit(const std::vector<int>& leaves, SolveProgr
     return split;
 }
 
-float ShownDirect::minChildArea(int element) const {
-    return mesh_.area(mesh_.patch(element)) / static_cast<float>(1 << (2 * kMaxLevels));
-}
-
 bool ShownDirect::maySplit(int leaf) const {
-    return mesh_.canSplit(leaf, minChildArea(leaf)) &&
+    return mesh_.canSplit(leaf, kMinElementArea) &&
            longestEdge(mesh_, leaf) >
                kMinEdgePerDistance * sources_.nearestSource(mesh_.centroid(leaf));
 }
@@ -135,6 +131,21 @@ Color ShownDirect::energyShift(int leaf, size_t side) const {
     const std::array<PointDirect::Parts, 3> c = shownCorners(leaf, side);
     const Color corners = (c[0].punctual + c[1].punctual + c[2].punctual) / 3.0f;
     return solver_->punctualMean(leaf, side == 0) - corners;
+}
+
+// Each channel of the corners' punctual light scaled to the element's mean, or shifted where the
+// corners have none: a shift alone took corners below zero beside a hard shadow, where one corner
+// is lit and the element's mean is much less than the corners'.
+void ShownDirect::keepEnergy(int leaf, size_t side) {
+    const std::array<PointDirect::Parts, 3> c = shownCorners(leaf, side);
+    const Color corners = (c[0].punctual + c[1].punctual + c[2].punctual) / 3.0f;
+    const Color mean = solver_->punctualMean(leaf, side == 0);
+    for (size_t k = 0; k < 3; ++k) {
+        Color punctual = c[k].punctual;
+        for (int i = 0; i < 3; ++i)
+            punctual[i] = corners[i] > 0.0f ? punctual[i] * (mean[i] / corners[i]) : mean[i];
+        corners_.at(leaf, side == 0, k) = punctual + c[k].emitters;
+    }
 }
 
 // Every test point is evaluated, also past the first that fails: a leaf that is split hands them
@@ -200,7 +211,7 @@ void ShownDirect::refine(const Solver& solver, size_t maxLeaves, SolveProgress* 
         }
         std::vector<int> children;
         for (const int e : split) {
-            const int first = solver.split(e, minChildArea(e));
+            const int first = solver.split(e, kMinElementArea);
             parts_.resize(mesh_.elementCount());
             tests_.resize(mesh_.elementCount());
             inheritCorners(e, first);
@@ -237,9 +248,10 @@ void ShownDirect::refine(const Solver& solver, size_t maxLeaves, SolveProgress* 
         }
     }
     for (const int e : unresolved_) {
-        for (size_t side = 0; side < 2; ++side)
-            for (size_t k = 0; k < 3; ++k)
-                corners_.at(e, side == 0, k) += energyShift(e, side);
+        for (size_t side = 0; side < 2; ++side) {
+            if (exposed_(e, side == 0))
+                keepEnergy(e, side);
+        }
     }
     corners_.anchorTVertices(mesh_);
     parts_ = {};

@@ -12,7 +12,7 @@
 // that darkness does not refine on the last digits), and its longest edge is longer than
 // kMinEdgePerDistance times its distance to the nearest source (a floor half a metre under a
 // downlight gets elements of a few centimetres there; a distant wall keeps its elements), and its
-// children would be at least minChildArea(): the settings' smallest element area sizes the solve
+// children would be at least kMinElementArea: the settings' smallest element area sizes the solve
 // by the scene, not by the light, and does not bound this. The refinement gives up, and says so
 // (budgetReached()), at maxLeaves leaves: of a round that would pass it, the leaves whose error
 // is the largest part of their tolerance are split first.
@@ -21,8 +21,9 @@
 // the tolerance from the element's own mean (DirectIrradiance's, exact in energy: it weighs its
 // samples by the solid angle the element subtends at the light), which catches a spike between
 // the test points (a light a metre over elements ten metres wide). A leaf that the rules above
-// leave wrong but may not split (too small, too near a source, over budget) has its corners
-// shifted by that difference, so that it shows its element's energy if not its shape.
+// leave wrong but may not split (too small, too near a source, over budget) has its corners'
+// punctual light scaled to that mean (shifted where they have none), so that it shows its
+// element's energy if not its shape.
 //
 // Corners are per leaf, not per mesh vertex: each is evaluated a thousandth of the leaf's size
 // inside it, so that a leaf beside a discontinuity of the light (the foot of an emitter standing
@@ -55,9 +56,10 @@ class ShownDirect {
     static constexpr float kTolerance = 0.01f;
     static constexpr float kFloor = 1e-3f;
     static constexpr float kMinEdgePerDistance = 1.0f / 32.0f;
-    // Levels of 1:4 splits below its patch an element may reach (a patch of a square metre gets
-    // elements of about a millimetre).
-    static constexpr int kMaxLevels = 10;
+    // The smallest element it makes, m² (a square millimetre): the size a leaf at a contact line,
+    // where the nearest source is at no distance, stops at. Not relative to the patch: a point
+    // light a metre over a floor modelled as one 10 km square needs elements of centimetres there.
+    static constexpr float kMinElementArea = 1e-6f;
 
     // Both must outlive it; the mesh is refined by refine(). `exposed`: whether an element side
     // shows any light (a covered side, under a block or inside a wall, is neither evaluated nor
@@ -121,10 +123,12 @@ class ShownDirect {
     // The leaf's largest error over its tolerance (wrong above 1).
     float wrongness(int leaf, uint64_t& rays);
     bool maySplit(int leaf) const;
-    float minChildArea(int element) const;
     // The element side's punctual mean less its corners' (what a shift of its corners would
     // take to show its energy).
     Color energyShift(int leaf, size_t side) const;
+    // Sets the corners of a leaf side that the rules leave wrong so that they show its element's
+    // punctual energy.
+    void keepEnergy(int leaf, size_t side);
 
     const Scene& scene_;
     RadiosityMesh& mesh_;
