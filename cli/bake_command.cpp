@@ -136,6 +136,11 @@ Command addBakeCommand(CLI::App& app) {
     command->add_option("--min-element-area", r.minElementArea,
                         "Smallest element in m² (default 0: total surface area / 16384)");
     command
+        ->add_flag("!--no-direct-at-corners", r.directAtCorners,
+                   "Show the lights' direct light as the element means, not as evaluated at the "
+                   "corners of elements refined until it is right")
+        ->capture_default_str();
+    command
         ->add_option("--indirect-at-corners", r.indirectAtCorners,
                      "Rays per element corner that gather the indirect light shown there "
                      "(0: the element means)")

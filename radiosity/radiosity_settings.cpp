@@ -28,7 +28,7 @@
 //                                               from the solution to correct the links' transfer
 //                                               (finalGather); 0 = off; auto = 64 when the solver
 //                                               starts from clusters, else off
-//   direct_at_corners   bool    false           show the sources' direct light evaluated at the
+//   direct_at_corners   bool    true            show the sources' direct light evaluated at the
 //                                               leaves' corners, the mesh refined after the solve
 //                                               until its interpolation is within 1 %
 //                                               (shown_direct.h); false = the element means

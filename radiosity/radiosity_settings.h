@@ -57,9 +57,8 @@ struct RadiositySettings {
     // Show the sources' direct light as evaluated at the corners of the leaves, on a mesh refined
     // after the solve until its linear interpolation is right (shown_direct.h), instead of as the
     // Gouraud interpolation of the element means: what radiance() returns, the radiosity view and
-    // the bake show. Off by default until it handles coincident faces and covered corners
-    // (docs/radiosity.md, "The direct light at the corners").
-    bool directAtCorners = false;
+    // the bake show (docs/radiosity.md, "The direct light at the corners").
+    bool directAtCorners = true;
     // Show the indirect light as gathered at the corners of the leaves with this many rays per
     // corner and side (indirect_at_corners.h), instead of as the Gouraud interpolation of the
     // element means: what radiance() and indirectRadiance() return, the radiosity view, the bake

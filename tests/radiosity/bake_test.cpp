@@ -22,6 +22,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -252,6 +253,17 @@ uint32_t sceneMeshNamed(const Scene& scene, const std::string& name) {
     return 0;
 }
 
+// What the bake writes at a vertex is the solver's one value there (RadiosityMesh::vertexValue,
+// plus the leaf's emission) in radiance and, times the exposure and clamped, in colour. The
+// solver's view shows the light at each leaf's own corners (shown_direct.h, indirect_at_corners.h):
+// where the leaves that meet at a vertex do not agree (each evaluates its corner a thousandth of
+// its size inside it; a coarser leaf interpolates over a finer one's corner) the vertex holds their
+// mean, so against the view the vertices are compared on average: within 1 %. Measured 0.42 %
+// (2026-12-04; at most 22 %, at the table's hard shadow, whose leaves the refinement may not split
+// below 1/32 of their distance to the light: their corners keep the element's energy, not the
+// shadow's shape, and the vertices average the two sides). A wrong exposure, vertex or side shows
+// as several per cent; before the view showed the direct light at the corners, the largest
+// difference was 2e-7.
 TEST_F(Bake, VertexColoursAreTheSolversRadianceTimesTheExposure) {
     constexpr float kExposure = 1.5f;
     const BakeResult result = bakeRadiosity(*scene_, *mesh_, kExposure);
@@ -263,10 +275,20 @@ TEST_F(Bake, VertexColoursAreTheSolversRadianceTimesTheExposure) {
     ASSERT_EQ(read.meshes.size(), scene_->meshes().size());  // every mesh here is opaque
 
     const float scale = std::exp2(kExposure);
-    double worst = 0.0;
+    double worstVertex = 0.0, worstView = 0.0, sumView = 0.0;
     size_t checked = 0, clamped = 0;
     for (const ReadMesh& m : read.meshes) {
         const uint32_t s = sceneMeshNamed(*scene_, m.name);
+        // The values the solver holds at the vertices of this mesh's leaves, by position.
+        std::map<std::array<float, 3>, Color> held;
+        for (const int e : mesh_->leafElements()) {
+            if (mesh_->sceneMesh(e) != s)
+                continue;
+            for (const uint32_t v : mesh_->leafBoundary(e)) {
+                const Vec3& x = mesh_->position(v);
+                held[{x.x, x.y, x.z}] = mesh_->vertexValue(v) + mesh_->Le(e);
+            }
+        }
         const Mesh& source = scene_->meshes()[s];
         std::vector<FileTriangle> triangles;  // the source's, in penumbra's frame
         for (const glm::uvec3& t : source.triangles) {
@@ -281,29 +303,39 @@ TEST_F(Bake, VertexColoursAreTheSolversRadianceTimesTheExposure) {
             const int t = containingTriangle((p[0] + p[1] + p[2]) / 3.0, triangles, 1e-6);
             ASSERT_GE(t, 0) << m.name << " triangle " << i / 3 << " lies on no input triangle";
             for (int k = 0; k < 3; ++k) {
+                const uint32_t v = m.indices[i + size_t(k)];
+                const Color L = m.radiance[v];
+                const Color colour = glm::clamp(scale * L, 0.0f, 1.0f);
+                EXPECT_LE(maxComponent(glm::abs(m.colors[v] - colour)), 1e-6f);
+                const auto relative = [&](const Color& expected) {
+                    return double(maxComponent(glm::abs(L - expected)) /
+                                  std::max(maxComponent(expected), 1e-3f));
+                };
+                const auto it = held.find({float(p[k].x), float(p[k].y), float(p[k].z)});
+                if (it != held.end()) {  // not a fan's centre
+                    worstVertex = std::max(worstVertex, relative(it->second));
+                    ASSERT_LE(relative(it->second), 1e-6)
+                        << m.name << " vertex " << v << ": radiance (" << L.r << ", " << L.g << ", "
+                        << L.b << "), solver's vertex (" << it->second.r << ", " << it->second.g
+                        << ", " << it->second.b << ")";
+                }
                 const DVec3 b = barycentric(p[k], triangles[size_t(t)].a, triangles[size_t(t)].b,
                                             triangles[size_t(t)].c);
-                const uint32_t v = m.indices[i + size_t(k)];
-                const Color expected = solver_->radiance(s, uint32_t(t), Vec3(b), true, true);
-                const Color expectedColor = glm::clamp(scale * expected, 0.0f, 1.0f);
-                const double error =
-                    std::max(double(maxComponent(glm::abs(m.radiance[v] - expected)) /
-                                    std::max(maxComponent(expected), 1e-3f)),
-                             double(maxComponent(glm::abs(m.colors[v] - expectedColor))));
-                worst = std::max(worst, error);
+                const Color view = solver_->radiance(s, uint32_t(t), Vec3(b), true, true);
+                worstView = std::max(worstView, relative(view));
+                sumView += relative(view);
                 ++checked;
-                clamped += maxComponent(scale * expected) > 1.0f ? 1 : 0;
-                ASSERT_LE(error, 1e-4)
-                    << m.name << " vertex " << v << ": radiance (" << m.radiance[v].r << ", "
-                    << m.radiance[v].g << ", " << m.radiance[v].b << "), solver (" << expected.r
-                    << ", " << expected.g << ", " << expected.b << "); colour (" << m.colors[v].r
-                    << ", " << m.colors[v].g << ", " << m.colors[v].b << ")";
+                clamped += maxComponent(scale * L) > 1.0f ? 1 : 0;
             }
         }
     }
+    const double meanView = sumView / double(checked);
     std::cout << checked << " triangle corners (" << clamped << " clamped), " << result.vertices
-              << " vertices: largest relative difference from the solver " << worst << "\n";
+              << " vertices: largest relative difference from the solver's vertex values "
+              << worstVertex << "; from its view " << meanView << " on average, " << worstView
+              << " at most\n";
     EXPECT_GT(clamped, 0u);  // the emitter, at least: the clamp was tested
+    EXPECT_LT(meanView, 0.01);
 }
 
 TEST_F(Bake, PositionsLineUpWithTheInputFarFromTheOrigin) {
