@@ -52,12 +52,12 @@ PointDirect::PointDirect(const Scene& scene, const RadiosityMesh& mesh,
     }
 }
 
-// The light's cells: each patch cut 1:4 (at its edge midpoints) `levels` times, the fewest that
-// give the light kMinCells cells. Its points: point k of a (0,2)-sequence, its first coordinate
-// choosing a cell by area (the cells in the mesh's order, which is mostly spatial) and, rescaled
-// within that cell's interval, with the second, the point in it. The first 2^m points are then
-// stratified over the light's area, so every prefix a point casts rays to is spread over the
-// whole light, not over its first patches.
+// The light's cells: each patch cut 1:4 (at its edge midpoints, as RadiosityMesh splits) `levels`
+// times, the fewest that give the light kMinCells cells. Its points: point k of a (0,2)-sequence,
+// its first coordinate choosing a cell by area (the cells in the mesh's order, which is mostly
+// spatial) and, rescaled within that cell's interval, with the second, the point in it. The first
+// 2^m points are then stratified over the light's area, so every prefix a point casts rays to is
+// spread over the whole light, not over its first patches.
 void PointDirect::placePoints(const Scene& scene, const RadiosityMesh& mesh,
                               const std::vector<int>& patches, uint32_t sceneMesh,
                               AreaLight& light) {
@@ -69,8 +69,10 @@ void PointDirect::placePoints(const Scene& scene, const RadiosityMesh& mesh,
     for (int level = 0; level < levels; ++level) {
         std::vector<std::array<Vec3, 3>> finer;
         for (const auto& [a, b, c] : cells) {
-            const Vec3 ab = 0.5f * (a + b), bc = 0.5f * (b + c), ca = 0.5f * (c + a);
-            finer.insert(finer.end(), {{a, ab, ca}, {ab, b, bc}, {ca, bc, c}, {bc, ca, ab}});
+            const std::array<Vec3, 6> points = {
+                a, b, c, 0.5f * (a + b), 0.5f * (b + c), 0.5f * (c + a)};
+            for (const auto& k : RadiosityMesh::kChildCorners)
+                finer.push_back({points[k[0]], points[k[1]], points[k[2]]});
         }
         cells = std::move(finer);
     }

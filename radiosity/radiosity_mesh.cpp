@@ -37,11 +37,6 @@ using OpenMesh::FaceHandle;
 using OpenMesh::HalfedgeHandle;
 using OpenMesh::VertexHandle;
 
-// Corners of the four children in terms of the parent's corners c0 c1 c2 (indices 0-2) and edge
-// midpoints m01 m12 m20 (indices 3-5), in the order documented in radiosity_mesh.h.
-constexpr int kChildCorners[RadiosityMesh::kChildren][3] = {
-    {0, 3, 5}, {3, 1, 4}, {5, 4, 2}, {4, 5, 3}};
-
 Vec3 toVec3(const PolyMesh::Point& p) {
     return {p[0], p[1], p[2]};
 }
@@ -270,7 +265,7 @@ RadiosityMesh::RadiosityMesh(const Scene& scene, const MeshingSettings& settings
                                             (f.lattice[1] + f.lattice[2]) / 2,
                                             (f.lattice[2] + f.lattice[0]) / 2};
             for (int child = 0; child < kChildren; ++child) {
-                const int* k = kChildCorners[child];
+                const int* k = RadiosityMesh::kChildCorners[child];
                 stack.push_back({faces[child],
                                  {v[k[0]], v[k[1]], v[k[2]]},
                                  {l[k[0]], l[k[1]], l[k[2]]},
@@ -397,8 +392,8 @@ int RadiosityMesh::split(int element, float minChildArea) {
     for (int child = 0; child < kChildren; ++child) {
         Element e;
         for (int corner = 0; corner < 3; ++corner) {
-            e.vertices[corner] = v[kChildCorners[child][corner]];
-            e.barycentric[corner] = b[kChildCorners[child][corner]];
+            e.vertices[corner] = v[RadiosityMesh::kChildCorners[child][corner]];
+            e.barycentric[corner] = b[RadiosityMesh::kChildCorners[child][corner]];
         }
         e.normal = parent.normal;
         e.area = 0.25f * parent.area;  // exact, and the children's areas sum to the parent's

@@ -116,6 +116,9 @@ class RadiosityMesh {
     // Which of an element's children (0-3, whether it is split yet or not) holds the point of
     // barycentric coordinates w in the element's corners: child c < 3 the corner c's, where
     // w[c] > 1/2, child 3 the middle one.
+    // The corners of each child as indices into the parent's corners c0 c1 c2 (0-2) and edge
+    // midpoints m01 m12 m20 (3-5), in the order above.
+    static constexpr int kChildCorners[kChildren][3] = {{0, 3, 5}, {3, 1, 4}, {5, 4, 2}, {4, 5, 3}};
     static int childAt(const Vec3& w) {
         return w.x > 0.5f ? 0 : w.y > 0.5f ? 1 : w.z > 0.5f ? 2 : 3;
     }

@@ -75,22 +75,18 @@ void ShownDirect::evaluateCorners(const std::vector<int>& leaves, SolveProgress*
     rays_ += rays;
 }
 
-// The children's corners in the parent's values (RadiosityMesh's child order: child c < 3 at
-// the parent's corner c, child 3 in the middle), the points being the parent's corners c0, c1, c2
-// and test points m01, m12, m20.
+// The children's corners in the parent's values (RadiosityMesh::kChildCorners), the points being
+// the parent's corners c0, c1, c2 and test points m01, m12, m20.
 void ShownDirect::inheritCorners(int parent, int firstChild) {
     const CornerParts& c = parts_[static_cast<size_t>(parent)];
     const TestPoints& t = tests_[static_cast<size_t>(parent)];
     for (size_t side = 0; side < 2; ++side) {
         const size_t o = 3 * side, m = 4 * side;
-        const Sample c0 = c[o], c1 = c[o + 1], c2 = c[o + 2];
-        const Sample m01 = t[m], m12 = t[m + 1], m20 = t[m + 2];
-        const std::array<std::array<Sample, 3>, 4> children = {
-            {{c0, m01, m20}, {m01, c1, m12}, {m20, m12, c2}, {m12, m20, m01}}};
-        for (size_t k = 0; k < 4; ++k) {
-            CornerParts& child = parts_[static_cast<size_t>(firstChild) + k];
+        const std::array<Sample, 6> points = {c[o], c[o + 1], c[o + 2], t[m], t[m + 1], t[m + 2]};
+        for (int k = 0; k < RadiosityMesh::kChildren; ++k) {
+            CornerParts& child = parts_[static_cast<size_t>(firstChild + k)];
             for (size_t j = 0; j < 3; ++j)
-                child[o + j] = children[k][j];
+                child[o + j] = points[static_cast<size_t>(RadiosityMesh::kChildCorners[k][j])];
         }
     }
 }
