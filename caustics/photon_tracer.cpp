@@ -218,9 +218,14 @@ class Tracer {
         const std::optional<LightLeSample> origin = light.sampleLe(uPosition, uDirection);
         if (!origin)
             return std::nullopt;
-        if (light.kind() == LightKind::Directional) {
-            const AimedOrigin o = sampleDiscs(targets_, *origin, uTarget, uDirection);
-            return Emitted{Ray{o.p, origin->w}, origin->L / (o.pdf * choice->pmf)};
+        // A light at infinity sends its photon along the direction it chose (pdfDir 1 for a
+        // directional light) from a point aimed at the targets' discs across that direction,
+        // drawn with numbers the light's own choice did not use: a directional light ignores
+        // uDirection; the environment's origin, drawn from uPosition, is replaced.
+        if (light.kind() == LightKind::Directional || light.kind() == LightKind::Environment) {
+            const Vec2 uDisc = light.kind() == LightKind::Environment ? uPosition : uDirection;
+            const AimedOrigin o = sampleDiscs(targets_, *origin, uTarget, uDisc);
+            return Emitted{Ray{o.p, origin->w}, origin->L / (o.pdf * origin->pdfDir * choice->pmf)};
         }
         const std::optional<AimedDirection> d = aimFrom(origin->p, uTarget, uDirection);
         if (!d)

@@ -28,6 +28,9 @@ void printInfo(const Scene& scene) {
             case LightKind::Area:
                 ++lightCounts["emissive triangles"];
                 break;
+            case LightKind::Environment:
+                ++lightCounts["environment"];
+                break;
         }
     }
     size_t emissiveMaterials = 0;

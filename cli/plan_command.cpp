@@ -37,8 +37,8 @@ void printPlan(PlanOptions& options) {
               << (contents.diffuse ? "diffuse" : "no diffuse") << " surfaces, "
               << (contents.specular ? "specular" : "no specular") << " surfaces, "
               << contents.areaLights << " emissive triangles, " << contents.punctualLights
-              << " punctual lights\npaths:     the scene can hold " << plan.universe
-              << "\npasses:\n";
+              << " punctual lights" << (contents.environment ? ", an environment" : "")
+              << "\npaths:     the scene can hold " << plan.universe << "\npasses:\n";
     for (size_t i = 0; i < pipeline.passes().size(); ++i) {
         const Pass& pass = *pipeline.passes()[i];
         std::cout << "  " << i + 1 << ". " << pass.type();

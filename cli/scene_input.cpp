@@ -1,6 +1,7 @@
 #include "cli/scene_input.h"
 
 #include "cli/commands.h"
+#include "core/environment_source.h"
 #include "core/errors.h"
 #include "core/gltf_loader.h"
 
@@ -21,6 +22,18 @@ void addSceneInputOptions(CLI::App& command, SceneInput& input, PassScripts scri
                     "Which of the file's glTF scenes to use (default: the file's `scene`)")
         ->check(atLeast(0));
     command.add_flag("-q,--quiet", input.quiet, "Print nothing but errors");
+    command
+        .add_option("--environment", input.environment.file,
+                    "Environment light: an equirectangular image of radiance in cd/m² (EXR or "
+                    ".hdr), replacing the scene's own")
+        ->check(CLI::ExistingFile);
+    command
+        .add_option("--environment-scale", input.environment.scale,
+                    "Multiplies the environment's radiance (default 1)")
+        ->check(CLI::PositiveNumber);
+    command.add_option("--environment-rotation", input.environment.rotationDegrees,
+                       "Turns the environment about the up axis (+Y), degrees, counter-clockwise "
+                       "seen from above (default 0)");
 }
 
 std::optional<PassScript> readPassScript(SceneInput& input) {
@@ -30,8 +43,40 @@ std::optional<PassScript> readPassScript(SceneInput& input) {
     input.path = script.scene;
     if (input.sceneIndex < 0 && script.sceneIndex)
         input.sceneIndex = *script.sceneIndex;
+    EnvironmentInput& environment = input.environment;
+    if (!environment.file && script.environment)
+        environment.file = script.environment;
+    if (!environment.scale && script.environmentScale)
+        environment.scale = script.environmentScale;
+    if (!environment.rotationDegrees && script.environmentRotation)
+        environment.rotationDegrees = script.environmentRotation;
     return script;
 }
+
+namespace {
+
+// The environment the user asked for: a new one from a file, or the scene's own scaled and
+// turned.
+void applyEnvironment(const EnvironmentInput& input, SceneDescription& description) {
+    const float scale = input.scale.value_or(1.0f);
+    const Mat3 turn = environmentRotation(input.rotationDegrees.value_or(0.0f));
+    if (input.file) {
+        description.environment = readEnvironment(*input.file, scale, turn);
+        return;
+    }
+    if (!input.scale && !input.rotationDegrees)
+        return;
+    if (!description.environment) {
+        throw UsageError(description.file +
+                         ": --environment-scale and --environment-rotation need an environment: "
+                         "the scene has none; give one with --environment FILE");
+    }
+    // Turning the map by R about +Y: the map's frame sees world direction d where it saw R^T d.
+    description.environment->scale *= scale;
+    description.environment->worldToLocal = description.environment->worldToLocal * turn;
+}
+
+}  // namespace
 
 std::unique_ptr<Scene> loadScene(const SceneInput& input) {
     const std::string extension = std::filesystem::path(input.path).extension().string();
@@ -48,6 +93,7 @@ std::unique_ptr<Scene> loadScene(const SceneInput& input) {
                          "script)");
     }
     SceneDescription description = loadGltf(input.path, input.sceneIndex);
+    applyEnvironment(input.environment, description);
     if (!input.quiet) {
         for (const std::string& warning : description.report.warnings) {
             std::cerr << "penumbra: warning: " << warning << "\n";
@@ -57,7 +103,7 @@ std::unique_ptr<Scene> loadScene(const SceneInput& input) {
     if (!input.quiet && scene->lights().empty()) {
         std::cerr << "penumbra: warning: " << input.path
                   << ": the scene has no lights and no emissive surfaces; the image will be "
-                     "black\n";
+                     "black (give an environment light with --environment FILE)\n";
     }
     return scene;
 }

@@ -12,10 +12,20 @@
 
 namespace penumbra::cli {
 
+// The environment light the user gives or adjusts (--environment, --environment-scale,
+// --environment-rotation, or a pass script's keys of the same names): absent values leave the
+// scene's own environment as it is.
+struct EnvironmentInput {
+    std::optional<std::string> file;
+    std::optional<float> scale;            // > 0, multiplies the environment's radiance
+    std::optional<float> rotationDegrees;  // about +Y, counter-clockwise seen from above
+};
+
 struct SceneInput {
     std::string path;
     int sceneIndex = -1;  // glTF `scenes` index, -1 = the file's default scene
     bool quiet = false;
+    EnvironmentInput environment;
 };
 
 // Whether a command reads pass scripts as its SCENE (render, plan, info) or glTF only.
@@ -24,12 +34,14 @@ enum class PassScripts { Accepted, Refused };
 void addSceneInputOptions(CLI::App& command, SceneInput& input, PassScripts scripts);
 
 // When SCENE is a pass script (.toml), reads it (loadPassScript) and points `input` at the
-// script's glTF scene, with the script's scene_index unless --scene-index was given. Nothing for
-// a glTF file. Call it before loadScene().
+// script's glTF scene, with the script's scene_index and environment unless the command line gave
+// them. Nothing for a glTF file. Call it before loadScene().
 std::optional<PassScript> readPassScript(SceneInput& input);
 
-// Loads the glTF file (after readPassScript, the scene of a pass script), prints the loader's
-// warnings to stderr unless quiet, and builds the scene. Throws SceneError on bad input.
+// Loads the glTF file (after readPassScript, the scene of a pass script), sets or adjusts its
+// environment light as `input.environment` says, prints the loader's warnings to stderr unless
+// quiet, and builds the scene. Throws SceneError on a bad scene, InputError on a bad environment
+// image, UsageError for a scale or rotation with no environment to apply it to.
 std::unique_ptr<Scene> loadScene(const SceneInput& input);
 
 }  // namespace penumbra::cli

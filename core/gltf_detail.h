@@ -48,6 +48,12 @@ std::vector<double> numbersOr(const Context& ctx, const tinygltf::Value& object,
 // The object stored under `key` in an extensions map, or nullptr.
 const tinygltf::Value* extension(const tinygltf::ExtensionMap& extensions, const char* key);
 
+// ---- gltf_environment.cpp: an environment light recorded in the scene's extras ---------------
+
+// The environment light of scene `scene` when its `extras` record one (a converted Mitsuba
+// scene's `mitsuba_environment`), its image read and checked; nothing otherwise.
+std::optional<EnvironmentDesc> readSceneEnvironment(const Context& ctx, int scene);
+
 // ---- gltf_validate.cpp: structural checks before anything is read -----------------------------
 
 // Checks every index between top-level objects, every buffer view and accessor range, the vertex

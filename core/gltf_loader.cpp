@@ -296,6 +296,7 @@ SceneDescription loadGltf(const std::string& path, int sceneIndex) {
     const int scene = chooseScene(ctx, sceneIndex);
     gltf::loadMaterials(ctx, desc.materials, desc.textures);
     SceneFlattener(ctx, std::move(lights), desc).flatten(scene);
+    desc.environment = gltf::readSceneEnvironment(ctx, scene);
     desc.sceneExtrasJson = model.scenes[scene].extras_json_string;
     return desc;
 }

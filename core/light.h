@@ -4,8 +4,8 @@
 // The interface follows pbrt-v4's Light: sampleLi() draws a direction towards the light from a
 // receiving point, pdfLi() gives the density of that strategy for a direction found by other
 // means (BSDF sampling hitting an emitter), which multiple importance sampling needs. Infinite
-// lights (sky, environment) and goniometric lights (IES) fit the same interface later: the
-// former through emittedEscaped(), the latter as another delta-position light.
+// lights (the environment, core/environment_light.h) fit it through Scene::escaped() for rays that
+// leave the scene; goniometric lights (IES) will be another delta-position light.
 #pragma once
 
 #include "core/interaction.h"
@@ -16,7 +16,7 @@
 
 namespace penumbra {
 
-enum class LightKind { Point, Spot, Directional, Area };
+enum class LightKind { Point, Spot, Directional, Area, Environment };
 
 // The receiving point of a light sample.
 struct LightSampleContext {
@@ -82,7 +82,9 @@ class Light {
     // (cosine-weighted over the emitting hemisphere of area lights, uniform over the sphere of a
     // point light and over the outer cone of a spot). Nothing when the sample carries no light.
     // The same uPosition gives the same origin whatever uDirection, so a caller may keep the
-    // origin and choose its own direction with emittedLe() (photons aimed at objects).
+    // origin and choose its own direction with emittedLe() (photons aimed at objects); lights at
+    // infinity (directional, environment) are the exception: their origin lies on a disc across
+    // the direction, so a caller keeps their direction and chooses its own origin.
     virtual std::optional<LightLeSample> sampleLe(Vec2 uPosition, Vec2 uDirection) const = 0;
 
     // What the light emits from the origin of `origin` (a sampleLe() result) in unit direction w,

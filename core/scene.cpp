@@ -25,7 +25,7 @@ Scene::Scene(SceneDescription description) : desc_(std::move(description)) {
             hasTransparentSurfaces_ || canBeTransparent(desc_.materials[mesh.material]);
     }
 
-    // Punctual lights first, then one area light per emissive triangle.
+    // Punctual lights first, then one area light per emissive triangle, then the environment.
     for (const PunctualLightDesc& light : desc_.lights) {
         switch (light.type) {
             case PunctualType::Point:
@@ -55,6 +55,16 @@ Scene::Scene(SceneDescription description) : desc_(std::move(description)) {
             triangleLights_[m][t] = static_cast<int>(lights_.size());
             lights_.push_back(std::move(light));
         }
+    }
+    if (desc_.environment) {
+        const EnvironmentDesc& env = *desc_.environment;
+        auto light = std::make_unique<EnvironmentLight>(
+            env.radiance, env.worldToLocal, env.scale,
+            bounds_.empty() ? Vec3(0.0f) : bounds_.center(),
+            bounds_.empty() ? 1.0f : bounds_.boundingRadius(), env.file);
+        environment_ = light.get();
+        environmentIndex_ = static_cast<int>(lights_.size());
+        lights_.push_back(std::move(light));
     }
     lightSampler_ = std::make_unique<PowerLightSampler>(lights_);
 }

@@ -5,6 +5,7 @@
 
 #include "core/accel.h"
 #include "core/bsdf.h"
+#include "core/environment_light.h"
 #include "core/interaction.h"
 #include "core/light.h"
 #include "core/light_sampler.h"
@@ -60,6 +61,15 @@ class Scene {
     Color emitted(const SurfaceHit& hit, const Vec3& wo) const;
     // The area light of an emissive triangle, or -1.
     int lightIndex(const SurfaceHit& hit) const;
+    // The environment light (SceneDescription::environment), or null: what a ray that leaves the
+    // scene sees. Its index in lights() is environmentLightIndex() (-1 without one).
+    const EnvironmentLight* environment() const { return environment_; }
+    int environmentLightIndex() const { return environmentIndex_; }
+    // Radiance (cd/m²) arriving along a ray that leaves the scene in unit direction d: the
+    // environment's, black without one.
+    Color escaped(const Vec3& d) const {
+        return environment_ ? environment_->radiance(d) : Color(0.0f);
+    }
 
     // Transparent surfaces (straightTransmittance) a ray passes before it is treated as blocked:
     // the same for shadow rays, photons and the rays that look at a radiosity solution, so that
@@ -88,6 +98,8 @@ class Scene {
     std::unique_ptr<PowerLightSampler> lightSampler_;
     // For each mesh, the light index of each triangle (empty for non-emissive meshes).
     std::vector<std::vector<int>> triangleLights_;
+    const EnvironmentLight* environment_ = nullptr;  // owned by lights_
+    int environmentIndex_ = -1;
     Bounds3 bounds_;
     size_t triangleCount_ = 0;
     bool hasTransparentSurfaces_ = false;  // if not, shadow rays need only an occlusion test

@@ -96,6 +96,8 @@ SceneContents analyseScene(const Scene& scene) {
     for (const auto& light : scene.lights()) {
         if (light->kind() == LightKind::Area)
             ++contents.areaLights;
+        else if (light->kind() == LightKind::Environment)
+            contents.environment = true;
         else
             ++contents.punctualLights;
     }

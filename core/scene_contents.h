@@ -12,6 +12,7 @@ struct SceneContents {
     bool diffuse = false;   // a surface with a diffuse or rough glossy lobe (D vertices)
     bool specular = false;  // a surface with a specular (delta) lobe (S vertices)
     size_t areaLights = 0, punctualLights = 0;
+    bool environment = false;  // an environment light (Scene::environment())
     // How large the lights look from the specular meshes (steradians): the solid angle of all
     // the area lights summed, seen from the centre of each mesh with a specular lobe, averaged
     // over those meshes weighted by the light power that can reach each (each light's power

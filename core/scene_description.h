@@ -3,11 +3,13 @@
 // it and adds the acceleration structure and the light list.
 #pragma once
 
+#include "core/image.h"
 #include "core/material.h"
 #include "core/math.h"
 #include "core/texture.h"
 
 #include <array>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -55,6 +57,15 @@ struct CameraDesc {
     Mat4 cameraToWorld{1.0f};  // rigid: the camera looks down its -Z, +Y up
 };
 
+// An environment light's source (core/environment_light.h): an equirectangular image of the
+// radiance arriving from every direction, read and checked (every value finite and >= 0).
+struct EnvironmentDesc {
+    std::string file;         // as given, for messages
+    Image radiance;           // times `scale`: cd/m² per linear-sRGB channel
+    float scale = 1.0f;       // > 0
+    Mat3 worldToLocal{1.0f};  // rotation from world directions into the map's frame
+};
+
 // What the loader noticed, for `penumbra info` and warnings.
 struct LoadReport {
     std::vector<std::string> extensionsUsed;     // supported and used
@@ -74,6 +85,8 @@ struct SceneDescription {
     std::vector<Texture> textures;
     std::vector<PunctualLightDesc> lights;
     std::vector<CameraDesc> cameras;
+    // From the scene's `extras` (a converted Mitsuba scene's envmap), or given by the user.
+    std::optional<EnvironmentDesc> environment;
     std::string sceneExtrasJson;  // the loaded scene's `extras` as JSON text (e.g. a sky), or empty
     LoadReport report;
 };

@@ -10,6 +10,9 @@
 //   spp          int >= 1                  64                 samples per pixel
 //   seed         int in [0, 2^32 - 1]      0                  random seed
 //   output       string or array of them   none (-o)          images, relative to the script
+//   environment  string                    the scene's        environment image, relative to it
+//   environment_scale     float > 0        1                  multiplies its radiance
+//   environment_rotation  float            0                  degrees about +Y
 //   pass         array of tables           required           the passes, in order
 #include "passes/pass_script.h"
 
@@ -19,6 +22,7 @@
 
 #include <algorithm>
 #include <charconv>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -352,6 +356,26 @@ std::string readScene(const ScriptTable& top) {
     return path;
 }
 
+// The environment image, resolved against the script's folder; it must exist.
+std::optional<std::string> readEnvironmentFile(const ScriptTable& top) {
+    const std::optional<std::string> given = top.find<std::string>("environment");
+    if (!given)
+        return std::nullopt;
+    const std::string path = resolve(top.file(), *given);
+    std::error_code ec;
+    if (!fs::is_regular_file(path, ec))
+        throw top.error("environment", "file not found: " + path);
+    return path;
+}
+
+std::optional<float> readEnvironmentScale(const ScriptTable& top) {
+    const std::optional<float> scale = top.find<float>("environment_scale");
+    if (scale && !(std::isfinite(*scale) && *scale > 0.0f)) {
+        throw top.error("environment_scale", "expected a number > 0, got " + number(*scale));
+    }
+    return scale;
+}
+
 // Outputs resolved against the script's folder, each checked as `-o` is (checkOutputPath).
 std::vector<std::string> readOutputs(const ScriptTable& top) {
     std::vector<std::string> outputs;
@@ -421,6 +445,9 @@ PassScript loadPassScript(const std::string& path) {
         .spp = optionalIn(top, "spp", 1, kIntMax),
         .seed = optionalIn<int64_t>(top, "seed", 0, std::numeric_limits<uint32_t>::max()),
         .outputs = readOutputs(top),
+        .environment = readEnvironmentFile(top),
+        .environmentScale = readEnvironmentScale(top),
+        .environmentRotation = top.find<float>("environment_rotation"),
         .passes = {},
         .topLevel = top};
 

@@ -108,8 +108,12 @@ struct PassScript {
     std::optional<int> width, height, spp;
     std::optional<uint32_t> seed;
     std::vector<std::string> outputs;  // resolved relative to the script's folder; may be empty
-    std::vector<ScriptPass> passes;    // at least one, in order
-    ScriptTable topLevel;              // for errors about top-level values found later
+    // The environment light (cli/scene_input.h, EnvironmentInput): an image file resolved
+    // relative to the script's folder, a scale > 0 and a rotation about +Y in degrees.
+    std::optional<std::string> environment;
+    std::optional<float> environmentScale, environmentRotation;
+    std::vector<ScriptPass> passes;  // at least one, in order
+    ScriptTable topLevel;            // for errors about top-level values found later
 };
 
 // Reads and checks a pass script: TOML syntax, the top-level keys (types, ranges, that the scene

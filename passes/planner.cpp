@@ -117,11 +117,11 @@ PipelinePlan planForScene(Pipeline& pipeline, const SceneContents& contents) {
                     : contents.specular                   ? "LS*E"
                                                           : "LE";
 
-    if (contents.areaLights + contents.punctualLights == 0) {
+    if (contents.areaLights + contents.punctualLights == 0 && !contents.environment) {
         plan.warnings.push_back(
             "the scene has no light (no emissive surface, no "
-            "KHR_lights_punctual light): the image is black");
-    } else if (contents.areaLights == 0) {
+            "KHR_lights_punctual light, no environment): the image is black");
+    } else if (contents.areaLights == 0 && !contents.environment) {
         plan.decisions.push_back("lights: " + std::to_string(contents.punctualLights) +
                                  " punctual, no emissive surface: no area sampling");
     }

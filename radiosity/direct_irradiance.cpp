@@ -1,4 +1,5 @@
-// The punctual lights' direct light and the deposited flux on the element sides.
+// The punctual lights' and the environment's direct light and the deposited flux on the element
+// sides.
 #include "radiosity/direct_irradiance.h"
 
 #include "core/scene.h"
@@ -6,6 +7,8 @@
 #include "radiosity/solver_nodes.h"
 
 #include <tbb/parallel_for.h>
+
+#include <atomic>
 
 namespace penumbra {
 
@@ -20,6 +23,7 @@ DirectIrradiance::DirectIrradiance(const Scene& scene, const RadiosityMesh& mesh
 void DirectIrradiance::resize() {
     const size_t nodes = 2 * mesh_.elementCount();
     D_.resize(nodes, Color(0.0f));
+    Denvironment_.resize(nodes, Color(0.0f));
     Dspread_.resize(nodes, 0.0f);
     if (transferred_)
         Dtransferred_.resize(nodes, Color(0.0f));
@@ -28,6 +32,7 @@ void DirectIrradiance::resize() {
 void DirectIrradiance::inherit(int childNode, int parentNode) {
     const auto child = static_cast<size_t>(childNode), parent = static_cast<size_t>(parentNode);
     D_[child] = D_[parent];
+    Denvironment_[child] = Denvironment_[parent];
     Dspread_[child] = Dspread_[parent];
     if (transferred_)
         Dtransferred_[child] = Dtransferred_[parent];
@@ -67,28 +72,33 @@ void DirectIrradiance::setTransferred(const std::vector<FluxDeposit>& deposits) 
 // photon noise does not drive refineDirect().
 uint64_t DirectIrradiance::compute(const std::vector<int>& elements, SolveProgress* progress) {
     const std::vector<const Light*> lights = punctualLights(scene_);
-    if ((lights.empty() && !deposits_) || elements.empty())
+    const bool sources = !lights.empty() || scene_.environment();
+    if ((!sources && !deposits_) || elements.empty())
         return 0;
     if (deposits_)
         deposits_->update();
     const int n = samples_;
+    std::atomic<uint64_t> rays{0};
     parallelForWithProgress(elements.size(), progress, [&](size_t i) {
         const int e = elements[i];
         const PunctualDirect direct =
-            lights.empty() ? PunctualDirect{}
-                           : punctualDirect(scene_, mesh_, e, lights, n,
-                                            ElementExposure::kPointSeed, &exposure_.coincident());
+            !sources ? PunctualDirect{}
+                     : punctualDirect(scene_, mesh_, e, lights, n, ElementExposure::kPointSeed,
+                                      &exposure_.coincident());
+        rays += direct.rays;
         for (int side = 0; side < 2; ++side) {
             const int nd = node(e, side == 0);
             // The mean over the exposed part: the covered points' shadow rays are blocked.
             const float exposed = exposure_.fraction(nd);
             D_[nd] = exposed > 0.0f ? direct.D[side] / exposed : direct.D[side];
+            Denvironment_[nd] =
+                exposed > 0.0f ? direct.environment[side] / exposed : direct.environment[side];
             if (deposits_)
                 D_[nd] += depositedD(*deposits_, e, side == 0);
             Dspread_[nd] = direct.spread[side];
         }
     });
-    return lights.empty() ? 0 : static_cast<uint64_t>(elements.size()) * n * lights.size();
+    return rays;
 }
 
 }  // namespace penumbra

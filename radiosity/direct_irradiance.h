@@ -1,7 +1,8 @@
 // The light the hierarchical solver (radiosity_solver.h) takes as given on every element side
-// before it gathers: D_i, the irradiance of the punctual lights (point, spot, directional) and of
-// the flux deposited by paths the solver does not follow (the caustic photons, deposited_flux.h),
-// divided by pi (cd/m²), the mean over the side's exposed part (element_exposure.h).
+// before it gathers: D_i, the irradiance of the punctual lights (point, spot, directional), of the
+// environment (environment_direct.h) and of the flux deposited by paths the solver does not
+// follow (the caustic photons, deposited_flux.h), divided by pi (cd/m²), the mean over the side's
+// exposed part (element_exposure.h).
 //
 // Two kinds of deposited flux: the sources' (the caustic photons, L S+ D), part of the first
 // reflection of the sources that the two-pass methods trace themselves, and the transferred
@@ -61,8 +62,11 @@ class DirectIrradiance {
     Color depositedSources(int node) const;
     // The punctual lights' part of D, whatever show() says.
     Color punctual(int node) const {
-        return glm::max(D_[static_cast<size_t>(node)] - depositedSources(node), Color(0.0f));
+        const auto n = static_cast<size_t>(node);
+        return glm::max(D_[n] - Denvironment_[n] - depositedSources(node), Color(0.0f));
     }
+    // The environment's part of D.
+    Color environment(int node) const { return Denvironment_[static_cast<size_t>(node)]; }
     // The spread of max(D) of the punctual lights over the element's sample points.
     float spread(int node) const { return Dspread_[static_cast<size_t>(node)]; }
     // Null without deposits.
@@ -90,6 +94,7 @@ class DirectIrradiance {
     std::unique_ptr<DepositedFlux> deposits_;
     std::unique_ptr<DepositedFlux> transferred_;
     std::vector<Color> D_;
+    std::vector<Color> Denvironment_;  // the environment's part of D_
     std::vector<Color> Dtransferred_;
     std::vector<float> Dspread_;
     Part shown_ = Part::All;

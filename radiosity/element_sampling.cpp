@@ -5,6 +5,7 @@
 #include "core/sampling.h"
 #include "core/scene.h"
 #include "radiosity/coincident_faces.h"
+#include "radiosity/environment_direct.h"
 #include "radiosity/form_factor.h"
 #include "radiosity/radiosity_mesh.h"
 
@@ -135,7 +136,7 @@ PunctualDirect punctualDirect(const Scene& scene, const RadiosityMesh& mesh, int
                               std::span<const Light* const> lights, int samples, uint32_t seed,
                               const CoincidentFaces* coincident) {
     PunctualDirect result;
-    if (lights.empty())
+    if (lights.empty() && !scene.environment())
         return result;
     std::vector<ElementSample> points(static_cast<size_t>(samples));
     stratifiedElementSamples(scene, mesh, element, seed, IVec2(element, 0), points);
@@ -167,6 +168,7 @@ PunctualDirect punctualDirect(const Scene& scene, const RadiosityMesh& mesh, int
             const float cosTheta = glm::dot(ls->wi, x.n);
             if (cosTheta == 0.0f || hidden[k][cosTheta > 0.0f ? 0 : 1])
                 continue;
+            ++result.rays;
             const Color T =
                 scene.transmittance(x.p, x.pError, x.n, ls->pLight, ls->pLightError, ls->nLight);
             const Color Ek = ls->L * std::abs(cosTheta) * T;
@@ -195,6 +197,22 @@ PunctualDirect punctualDirect(const Scene& scene, const RadiosityMesh& mesh, int
         const float scale = static_cast<float>(omega / (area * weights)) * kInvPi;
         for (int side = 0; side < 2; ++side)
             result.D[side] += lightSum[side] * scale;
+    }
+    if (scene.environment()) {
+        for (int side = 0; side < 2; ++side) {
+            Color sum(0.0f);
+            for (size_t k = 0; k < points.size(); ++k) {
+                if (hidden[k][side])
+                    continue;
+                const ElementSample& x = points[k];
+                sum +=
+                    environmentD(scene, x, side == 0 ? x.n : -x.n, seed, IVec2(element, 1 + side),
+                                 static_cast<uint32_t>(k) * kEnvironmentDirections,
+                                 kEnvironmentDirections, result.rays);
+            }
+            result.environment[side] = sum / static_cast<float>(samples);
+            result.D[side] += result.environment[side];
+        }
     }
     std::array<float, 2> lo{INFINITY, INFINITY}, hi{0.0f, 0.0f};
     for (const auto& e : E) {

@@ -129,7 +129,7 @@ CoverSamples coverSamples(const Scene& scene, const RadiosityMesh& mesh, int ele
 // The scene's punctual (delta) lights: point, spot, directional.
 std::vector<const Light*> punctualLights(const Scene& scene);
 
-// The direct light of punctual lights on both sides of an element.
+// The direct light of punctual lights and of the environment on both sides of an element.
 struct PunctualDirect {
     // Mean irradiance / pi over the element, [front, back] (cd/m²); each light counts on the side
     // it lies on.
@@ -137,6 +137,9 @@ struct PunctualDirect {
     // max - min over the sample points of the largest channel of irradiance / pi, [front, back]:
     // how much D varies over the element (a light pool's falloff, a shadow boundary).
     std::array<float, 2> spread{0.0f, 0.0f};
+    // The environment's part of D, [front, back].
+    std::array<Color, 2> environment{Color(0.0f), Color(0.0f)};
+    uint64_t rays = 0;  // shadow rays cast
 };
 
 // Samples `samples` stratified points of the element (seed `seed`, "pixel" (element, 0)) with one
@@ -147,7 +150,13 @@ struct PunctualDirect {
 // point or spot light's is Omega / A times the mean of E over the points weighted to solid angle,
 // Omega the exact solid angle the element subtends at the light, so that it is exact for an
 // unshadowed isotropic light however close and however large the element. Costs samples *
-// lights.size() rays. samples >= 1.
+// lights.size() rays.
+// The scene's environment light, whether or not `lights` is empty, adds to D on both sides the
+// mean over the points of environmentD() (environment_direct.h), each point with
+// kEnvironmentDirections directions of each strategy, point k taking directions
+// [k n, (k + 1) n) of the element's sequences, so that they are stratified over the element. Its
+// noise is left out of the spread, so that it does not drive refinement. samples >= 1.
+constexpr uint32_t kEnvironmentDirections = 4;
 PunctualDirect punctualDirect(const Scene& scene, const RadiosityMesh& mesh, int element,
                               std::span<const Light* const> lights, int samples, uint32_t seed,
                               const CoincidentFaces* coincident);

@@ -3,6 +3,7 @@
 #include "core/light.h"
 #include "core/sampler.h"
 #include "core/scene.h"
+#include "radiosity/environment_direct.h"
 #include "radiosity/form_factor.h"
 #include "radiosity/radiosity_mesh.h"
 
@@ -131,7 +132,10 @@ float PointDirect::formFactor(const Vec3& x, const Vec3& n, const Patch& patch) 
 }
 
 float PointDirect::nearestSource(const Vec3& p) const {
-    float nearest = std::numeric_limits<float>::infinity();
+    const Bounds3& bounds = scene_.bounds();
+    float nearest = scene_.environment() && !bounds.empty()
+                        ? kEnvironmentDistance * bounds.boundingRadius()
+                        : std::numeric_limits<float>::infinity();
     for (const Light* light : punctual_) {
         if (light->kind() == LightKind::Directional)
             continue;
@@ -255,7 +259,11 @@ PointDirect::Parts PointDirect::D(const ElementSample& x, const Vec3& n, uint64_
         E += ls->L * cosTheta *
              scene_.transmittance(x.p, x.pError, n, ls->pLight, ls->pLightError, ls->nLight);
     }
-    Parts D{E * kInvPi, Color(0.0f)};
+    Parts D;
+    D.punctual = E * kInvPi;
+    // The environment through the same directions at every point, so that the field is smooth.
+    D.environment =
+        environmentD(scene_, x, n, kEnvironmentSeed, IVec2(0), 0, kEnvironmentDirections, rays);
     // Each light's unoccluded light (its share of the rays).
     std::vector<Color> unoccluded(lights_.size(), Color(0.0f));
     const size_t lights = lights_.size();

@@ -5,6 +5,9 @@
 // D(x) = E(x) / pi, an irradiance divided by pi (cd/m²), on the side of x facing n:
 //  - each punctual light (point, spot, directional): E = I cos(theta) T / d² or E_perp cos(theta)
 //    T, T the shadow ray's transmittance (pbrt-v4's direct lighting of delta lights);
+//  - the environment: environmentD() (environment_direct.h) with kEnvironmentDirections
+//    directions of each strategy, the same directions at every point, so that the field is
+//    smooth (its error is one of the directions' set, shared by neighbouring points);
 //  - each emissive patch j of the mesh (Le_j, one-sided unless two-sided): Le_j F(x -> j), F the
 //    point-to-polygon form factor by Lambert's contour integral (form_factor.h), exact and clipped
 //    to the hemisphere over x, times the visible fraction of the patch's light (scene mesh) j is
@@ -62,6 +65,9 @@ class PointDirect {
     static constexpr size_t kPenumbraRays = 32;
     static constexpr float kSettled = 0.01f;
     static constexpr float kFarField = 10.0f;
+    static constexpr uint32_t kEnvironmentDirections = 64;
+    static constexpr float kEnvironmentDistance = 1.0f / 8.0f;
+    static constexpr uint32_t kEnvironmentSeed = 0x656e76u;
 
     // Both must outlive it. The emitters are the mesh's emissive patches as they are now, each
     // side that emits and is exposed(patch, front) (not hidden by a coincident face: a wall
@@ -69,17 +75,21 @@ class PointDirect {
     PointDirect(const Scene& scene, const RadiosityMesh& mesh,
                 const std::function<bool(int element, bool front)>& exposed);
 
-    // D at the point x on the side its normal n faces (x.n or -x.n), cd/m², in two parts: the
-    // punctual lights' and the emitters'. Adds the shadow rays it casts to `rays`.
+    // D at the point x on the side its normal n faces (x.n or -x.n), cd/m², in three parts: the
+    // punctual lights', the environment's and the emitters'. Adds the shadow rays it casts to
+    // `rays`.
     struct Parts {
-        Color punctual{0.0f}, emitters{0.0f};
-        Color total() const { return punctual + emitters; }
+        Color punctual{0.0f}, environment{0.0f}, emitters{0.0f};
+        Color total() const { return punctual + environment + emitters; }
     };
     Parts D(const ElementSample& x, const Vec3& n, uint64_t& rays) const;
     // Whether there is any source to evaluate.
-    bool empty() const { return punctual_.empty() && lights_.empty(); }
+    bool empty() const { return punctual_.empty() && lights_.empty() && !scene_.environment(); }
     // Distance (m) from p to the nearest point or spot light or emissive patch (to its
-    // circumscribed sphere: a lower bound), infinite with none of them.
+    // circumscribed sphere: a lower bound), infinite with none of them. The environment, which
+    // lies at no distance, counts as a source kEnvironmentDistance times the scene's bounding
+    // radius away: its light varies at the shadows of the openings it comes through, whose size
+    // goes with the scene's (elements down to 3 cm along them in a room 10 m across).
     float nearestSource(const Vec3& p) const;
 
   private:

@@ -27,6 +27,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <atomic>
 #include <bit>
 #include <chrono>
 #include <cmath>
@@ -193,22 +194,25 @@ void ProgressiveSolver::splitToReceiverLevel() {
     }
 }
 
-// The initial unshot radiance of every receiver side: its emission, plus the punctual lights'
-// direct light after one reflection, rho D: the point sources are the first shooters of CCWG88,
-// all shot at once, with their irradiance sampled over each element as
+// The initial unshot radiance of every receiver side: its emission, plus the punctual lights' and
+// the environment's direct light after one reflection, rho D: the point sources are the first
+// shooters of CCWG88, all shot at once, with their irradiance sampled over each element as
 // RadiositySolver::computeDirect() does (element_sampling.h). rho D is the first part of the
 // direct light (elementDirect); the emission's own first shot adds the rest (shoot). A hidden
 // side gets nothing; the points of a side hidden elsewhere than at its centroid get nothing
 // either (punctualDirect), as the replacing side gets their light.
 void ProgressiveSolver::shootPunctualLights(SolveProgress* progress) {
     const std::vector<const Light*> lights = punctualLights(scene_);
+    const bool sources = !lights.empty() || scene_.environment();
     const int n = settings_.visibilitySamples;
-    if (!lights.empty() && progress)
+    if (sources && progress)
         progress->beginStage("direct light of the punctual lights", receivers_.size());
-    parallelForWithProgress(receivers_.size(), lights.empty() ? nullptr : progress, [&](size_t i) {
+    std::atomic<uint64_t> rays{0};
+    parallelForWithProgress(receivers_.size(), sources ? progress : nullptr, [&](size_t i) {
         const int r = receivers_[i];
         const PunctualDirect direct =
             punctualDirect(scene_, mesh_, r, lights, n, kDirectSeed, &coincident_);
+        rays += direct.rays;
         for (const bool front : {true, false}) {
             if (hidden(r, front))
                 continue;
@@ -219,9 +223,9 @@ void ProgressiveSolver::shootPunctualLights(SolveProgress* progress) {
             unshot_[nd] = L_[nd];
         }
     });
-    if (!lights.empty() && progress)
+    if (sources && progress)
         progress->endStage(std::to_string(receivers_.size()) + " elements");
-    rays_ += static_cast<uint64_t>(receivers_.size()) * n * lights.size();
+    rays_ += rays;
     for (size_t p = 0; p < mesh_.patchCount(); ++p)
         sumUnshot(static_cast<int>(p));
 }

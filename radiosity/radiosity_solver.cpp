@@ -305,7 +305,7 @@ void RadiositySolver::solve(SolveProgress* progress, LinkRefiner::Deadline deadl
     std::vector<int> elements(mesh_.elementCount());
     std::iota(elements.begin(), elements.end(), 0);
     rays_ += exposure_->compute(elements);
-    const bool punctual = !punctualLights(scene_).empty();
+    const bool punctual = !punctualLights(scene_).empty() || scene_.environment();
     if (punctual)
         beginStage("direct light of the punctual lights", leaves.size());
     rays_ += irradiance_->compute(leaves, progress_);

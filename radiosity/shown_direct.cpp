@@ -41,12 +41,14 @@ std::array<PointDirect::Parts, 3> ShownDirect::shownCorners(int leaf, size_t sid
     for (size_t k = 0; k < 3; ++k) {
         if (!c[3 * side + k].covered) {
             exposed.punctual += c[3 * side + k].D.punctual;
+            exposed.environment += c[3 * side + k].D.environment;
             exposed.emitters += c[3 * side + k].D.emitters;
             ++count;
         }
     }
     if (count > 0) {
         exposed.punctual /= static_cast<float>(count);
+        exposed.environment /= static_cast<float>(count);
         exposed.emitters /= static_cast<float>(count);
     } else {
         exposed.emitters = solver_->exposedMean(leaf, side == 0);
@@ -140,7 +142,7 @@ void ShownDirect::keepEnergy(int leaf, size_t side) {
         Color punctual = c[k].punctual;
         for (int i = 0; i < 3; ++i)
             punctual[i] = corners[i] > 0.0f ? punctual[i] * (mean[i] / corners[i]) : mean[i];
-        corners_.at(leaf, side == 0, k) = punctual + c[k].emitters;
+        corners_.at(leaf, side == 0, k) = punctual + c[k].environment + c[k].emitters;
     }
 }
 
@@ -149,10 +151,11 @@ void ShownDirect::keepEnergy(int leaf, size_t side) {
 float ShownDirect::wrongness(int leaf, uint64_t& rays) {
     TestPoints& t = tests_[static_cast<size_t>(leaf)];
     float worst = 0.0f;
-    const auto weigh = [&](const Color& error, const Color& a, const Color& b) {
-        const float scale = std::max({maxComponent(a), maxComponent(b), floor_});
+    const auto weigh = [&](const Color& error, const Color& a, const Color& b,
+                           float tolerance = kTolerance, float floor = 0.0f) {
+        const float scale = std::max({maxComponent(a), maxComponent(b), floor_, floor});
         if (scale > 0.0f)
-            worst = std::max(worst, maxComponent(glm::abs(error)) / (kTolerance * scale));
+            worst = std::max(worst, maxComponent(glm::abs(error)) / (tolerance * scale));
     };
     const ElementSampler sampler(scene_, mesh_, leaf);
     for (size_t side = 0; side < 2; ++side) {
@@ -168,9 +171,16 @@ float ShownDirect::wrongness(int leaf, uint64_t& rays) {
             s = sample(leaf, sampler.at(at), side == 0, rays);
             if (s.covered)
                 continue;
-            const Color exact = s.D.total();
-            const Color linear = at.x * c[0].total() + at.y * c[1].total() + at.z * c[2].total();
+            const auto interpolate = [&](Color PointDirect::Parts::*part) {
+                return at.x * (c[0].*part) + at.y * (c[1].*part) + at.z * (c[2].*part);
+            };
+            const Color exact = s.D.punctual + s.D.emitters;
+            const Color linear = interpolate(&PointDirect::Parts::punctual) +
+                                 interpolate(&PointDirect::Parts::emitters);
             weigh(exact - linear, exact, linear);
+            const Color linearEnvironment = interpolate(&PointDirect::Parts::environment);
+            weigh(s.D.environment - linearEnvironment, s.D.environment, linearEnvironment,
+                  kEnvironmentTolerance, environmentFloor_);
         }
     }
     return worst;
@@ -186,12 +196,15 @@ void ShownDirect::refine(const Solver& solver, size_t maxLeaves, SolveProgress* 
     if (progress)
         progress->beginStage("direct light at the corners", leaves.size());
     evaluateCorners(leaves, progress);
-    float brightest = 0.0f;
+    float brightest = 0.0f, brightestEnvironment = 0.0f;
     for (const int e : leaves) {
-        for (const Sample& s : parts_[static_cast<size_t>(e)])
+        for (const Sample& s : parts_[static_cast<size_t>(e)]) {
             brightest = std::max(brightest, maxComponent(s.D.total()));
+            brightestEnvironment = std::max(brightestEnvironment, maxComponent(s.D.environment));
+        }
     }
     floor_ = kFloor * brightest;
+    environmentFloor_ = kEnvironmentFloor * brightestEnvironment;
     std::vector<int> split = toSplit(leaves, nullptr);
     if (progress)
         progress->endStage(std::to_string(split.size()) + " leaves to split");

@@ -78,6 +78,15 @@ float emissionMisWeight(const Scene& scene, const LightSampleContext& ctx, const
     return powerHeuristic(bsdfPdf, lightPdf);
 }
 
+float escapedMisWeight(const Scene& scene, const Vec3& wi, float bsdfPdf) {
+    const EnvironmentLight* environment = scene.environment();
+    if (!environment)
+        return 1.0f;
+    const float lightPdf = scene.lightSampler().pmf(uint32_t(scene.environmentLightIndex())) *
+                           environment->pdfDirection(wi);
+    return powerHeuristic(bsdfPdf, lightPdf);
+}
+
 Color estimateDirectLight(const Scene& scene, const SurfaceHit& hit, const Bsdf& bsdf,
                           const Vec3& wo, Sampler& sampler, PathCounters& counters) {
     const Color fromLight = sampleDirectLight(scene, hit, bsdf, wo, sampler, counters);
@@ -94,8 +103,10 @@ Color estimateDirectLight(const Scene& scene, const SurfaceHit& hit, const Bsdf&
     while (maxComponent(beta) > 0.0f) {
         ++counters.rays;
         const std::optional<SurfaceHit> next = scene.intersect(ray);
-        if (!next)
-            break;
+        if (!next) {
+            return fromLight +
+                   beta * scene.escaped(ray.d) * escapedMisWeight(scene, bs->wi, bs->pdf);
+        }
         beta *= volumeAttenuation(scene, *next, ray.d);
         const Bsdf nextBsdf = scene.bsdf(*next);
         const StraightThrough straight =

@@ -161,19 +161,10 @@ PathRadiance PathTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHit,
         L.corrections[static_cast<size_t>(component)] += fromCorrection;
     };
 
-    while (true) {
-        ++counters.rays;
-        const std::optional<SurfaceHit> hit = scene_.intersect(ray);
-        if (!hit)
-            break;  // no infinite lights yet: the world is black
-        w *= volumeAttenuation(scene_, *hit, ray.d);
-        pathLength += glm::distance(ray.o, hit->p);
-        const Vec3 wo = -ray.d;
-        const bool unheld = maxComponent(w.unheld) > 0.0f || maxComponent(w.correction()) > 0.0f;
-
-        // Emission reached by the previous BSDF sample, MIS-weighted against next-event
-        // estimation at the previous vertex (Veach 1997, Eq. 9.13).
-        const Color Le = scene_.emitted(*hit, wo);
+    // Emission Le reached by the previous BSDF sample (on a surface, or the environment past a
+    // ray that left the scene), with its MIS weight against next-event estimation at the
+    // previous vertex (Veach 1997, Eq. 9.13).
+    const auto addEmission = [&](const Color& Le, float misWeight) {
         const bool causticPath = diffuseVertices == 1 && specularAfterDiffuse;
         // Light reaching a reuse vertex through specular vertices is held by the caustic map or
         // the solution there; the correction's traced part counts it all the same.
@@ -185,10 +176,31 @@ PathRadiance PathTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHit,
         const Color correctionWeight = causticAtReuse ? w.traced + w.chain : w.correction();
         if (maxComponent(Le) > 0.0f && !(causticPath && settings_.excludeCaustics) &&
             maxComponent(baseWeight + correctionWeight) > 0.0f) {
-            const float weight =
-                lastDelta ? 1.0f : emissionMisWeight(scene_, lastCtx, ray.d, *hit, lastBsdfPdf);
             add(pathComponent(depth, firstVertexSpecular), baseWeight, correctionWeight,
-                Le * weight);
+                Le * misWeight);
+        }
+    };
+
+    while (true) {
+        ++counters.rays;
+        const std::optional<SurfaceHit> hit = scene_.intersect(ray);
+        if (!hit) {
+            if (scene_.environment()) {
+                addEmission(scene_.escaped(ray.d),
+                            lastDelta ? 1.0f : escapedMisWeight(scene_, ray.d, lastBsdfPdf));
+            }
+            break;
+        }
+        w *= volumeAttenuation(scene_, *hit, ray.d);
+        pathLength += glm::distance(ray.o, hit->p);
+        const Vec3 wo = -ray.d;
+        const bool unheld = maxComponent(w.unheld) > 0.0f || maxComponent(w.correction()) > 0.0f;
+
+        const Color Le = scene_.emitted(*hit, wo);
+        if (maxComponent(Le) > 0.0f) {
+            addEmission(Le, lastDelta
+                                ? 1.0f
+                                : emissionMisWeight(scene_, lastCtx, ray.d, *hit, lastBsdfPdf));
         }
 
         const Bsdf bsdf = scene_.bsdf(*hit);

@@ -15,8 +15,12 @@ PathRadiance traceSpecularChain(const Scene& scene, Ray ray, Sampler& sampler, F
     while (true) {
         ++counters.rays;
         const std::optional<SurfaceHit> hit = scene.intersect(ray);
-        if (!hit)
+        if (!hit) {
+            // The environment, seen directly or through the delta vertices.
+            if (settings.countEmission)
+                L[pathComponent(specularDepth, true)] += beta * scene.escaped(ray.d);
             break;
+        }
         beta *= volumeAttenuation(scene, *hit, ray.d);
         const Vec3 wo = -ray.d;
         if (settings.countEmission)

@@ -150,7 +150,8 @@ TEST_F(PassScriptTest, UnknownPassKeyAtTheKeyWithTheValidOnes) {
 TEST_F(PassScriptTest, UnknownTopLevelKey) {
     EXPECT_EQ(firstLine(error(kScene + "widht = 64\n" + kPath)),
               "2:1: widht: unknown key; valid keys here: scene, scene_index, camera, width, "
-              "height, spp, seed, output, pass");
+              "height, spp, seed, output, environment, environment_scale, "
+              "environment_rotation, pass");
     // A depth belongs to the path pass, not to the script.
     EXPECT_EQ(firstLine(error(kScene + "max_depth = 3\n" + kPath)).substr(0, 27),
               "2:1: max_depth: unknown key");
@@ -194,6 +195,10 @@ TEST_F(PassScriptTest, OutOfRange) {
               "2:9: width: expected an integer in [1, 2147483647], got 3000000000");
     EXPECT_EQ(firstLine(error(kScene + "seed = -1\n" + kPath)),
               "2:8: seed: expected an integer in [0, 4294967295], got -1");
+    EXPECT_EQ(firstLine(error(kScene + "environment_scale = 0\n" + kPath)),
+              "2:21: environment_scale: expected a number > 0, got 0");
+    EXPECT_EQ(firstLine(error(kScene + "environment_rotation = \"east\"\n" + kPath)).substr(0, 38),
+              "2:24: environment_rotation: expected a");
 }
 
 TEST_F(PassScriptTest, PassTypes) {
@@ -269,6 +274,9 @@ TEST_F(PassScriptTest, MissingOrBadScene) {
                   (fs::path(dir_.file("nowhere/box.gltf")).lexically_normal()).string());
     EXPECT_EQ(firstLine(error("scene = \"model.obj\"\n" + kPath)),
               "1:9: scene: expected a .gltf or .glb file, got \"model.obj\"");
+    EXPECT_EQ(firstLine(error(kScene + "environment = \"sky/none.exr\"\n" + kPath)),
+              "2:15: environment: file not found: " +
+                  (fs::path(dir_.file("sky/none.exr")).lexically_normal()).string());
 }
 
 TEST_F(PassScriptTest, MissingScriptFile) {

@@ -193,6 +193,8 @@ std::string GltfBuilder::json() const {
                 {"scale", vec(Vec3(rootScale_))}};
     gltf["nodes"] = nodes;
     gltf["scenes"] = json::array({{{"nodes", json::array({0})}}});
+    if (!sceneExtras_.empty())
+        gltf["scenes"][0]["extras"] = json::parse(sceneExtras_);
     gltf["scene"] = 0;
     gltf["meshes"] = meshes;
     gltf["materials"] = materials;

@@ -44,6 +44,9 @@ class GltfBuilder {
     // Translation and uniform scale of a root node that holds everything (for robustness tests).
     void setRootTransform(const Vec3& translation, float scale);
 
+    // The scene's `extras` object, as JSON text (e.g. an environment record).
+    void setSceneExtras(const std::string& json) { sceneExtras_ = json; }
+
     std::string json() const;
     void write(const std::string& path) const;
 
@@ -57,6 +60,7 @@ class GltfBuilder {
     std::vector<MeshData> meshes_;
     std::vector<TestLight> lights_;
     std::string cameraJson_;
+    std::string sceneExtras_;
     Vec3 cameraPosition_{0.0f};
     Vec4 cameraRotation_{0.0f, 0.0f, 0.0f, 1.0f};
     Vec3 rootTranslation_{0.0f};

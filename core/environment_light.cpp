@@ -1,0 +1,253 @@
+#include "core/environment_light.h"
+
+#include <algorithm>
+#include <array>
+#include <span>
+#include <sstream>
+#include <stdexcept>
+
+namespace penumbra {
+namespace {
+
+// The channels read as R, G and B: by name, else the first three, else the first as grey.
+std::array<int, 3> radianceChannels(const Image& image) {
+    const int r = image.channelIndex("R"), g = image.channelIndex("G"), b = image.channelIndex("B");
+    if (r >= 0 && g >= 0 && b >= 0)
+        return {r, g, b};
+    if (image.channels() >= 3)
+        return {0, 1, 2};
+    return {0, 0, 0};
+}
+
+// The equirectangular mapping of the header (Mitsuba 0.5's envmap): a direction of the map's frame
+// to image coordinates in [0, 1]², and back.
+Vec2 directionToUv(const Vec3& local) {
+    const float u = 0.5f * (1.0f + std::atan2(local.x, -local.z) * kInvPi);
+    const float v = std::acos(glm::clamp(local.y, -1.0f, 1.0f)) * kInvPi;
+    return Vec2(u, v);
+}
+
+Vec3 uvToDirection(Vec2 uv) {
+    const float phi = (2.0f * uv.x - 1.0f) * kPi, theta = uv.y * kPi;
+    const float sinTheta = std::sin(theta);
+    return Vec3(sinTheta * std::sin(phi), std::cos(theta), -sinTheta * std::cos(phi));
+}
+
+// pbrt-v3's Distribution1D (Pharr, Jakob and Humphreys, 3rd ed., section 13.3.1): a
+// piecewise-constant function f of n equal segments of [0, 1] as the density pdf = f / integral
+// and its cdf (n + 1 entries). Where f is zero throughout, the cdf is uniform and pdf zero, so a
+// sample drawn from it gets density zero and is discarded. Returns the integral of f.
+double tabulate(std::span<const float> f, std::span<float> pdf, std::span<float> cdf) {
+    const size_t n = f.size();
+    double sum = 0.0;
+    for (float x : f)
+        sum += x;
+    double running = 0.0;
+    cdf[0] = 0.0f;
+    for (size_t i = 0; i < n; ++i) {
+        running += f[i];
+        pdf[i] = sum > 0.0 ? float(f[i] * double(n) / sum) : 0.0f;
+        cdf[i + 1] = sum > 0.0 ? float(running / sum) : float(double(i + 1) / double(n));
+    }
+    return sum / double(n);
+}
+
+// Distribution1D::SampleContinuous (section 13.3.1): the segment with cdf[i] <= u < cdf[i + 1],
+// found by binary search, and u's place within it.
+struct SegmentSample {
+    int index;
+    float position;  // in [0, 1], linear within the segment
+};
+
+SegmentSample sampleContinuous(std::span<const float> cdf, float u) {
+    const int n = int(cdf.size()) - 1;
+    const int i =
+        std::clamp(int(std::upper_bound(cdf.begin(), cdf.end(), u) - cdf.begin()) - 1, 0, n - 1);
+    const float width = cdf[i + 1] - cdf[i];
+    const float offset = width > 0.0f ? glm::clamp((u - cdf[i]) / width, 0.0f, 1.0f) : 0.5f;
+    return {i, (float(i) + offset) / float(n)};
+}
+
+}  // namespace
+
+EnvironmentLight::EnvironmentLight(const Image& radiance, const Mat3& worldToLocal, float scale,
+                                   const Vec3& sceneCenter, float sceneRadius, std::string name)
+    : width_(radiance.width()),
+      height_(radiance.height()),
+      worldToLocal_(worldToLocal),
+      scale_(scale),
+      sceneCenter_(sceneCenter),
+      sceneRadius_(sceneRadius),
+      name_(std::move(name)) {
+    if (width_ <= 0 || height_ <= 0)
+        throw std::invalid_argument("EnvironmentLight: empty image");
+    if (!(sceneRadius > 0.0f) || !std::isfinite(sceneRadius))
+        throw std::invalid_argument("EnvironmentLight: the scene radius must be positive");
+    if (!(scale >= 0.0f) || !std::isfinite(scale))
+        throw std::invalid_argument("EnvironmentLight: the scale must be finite and >= 0");
+
+    const std::array<int, 3> channel = radianceChannels(radiance);
+    pixels_.resize(size_t(width_) * size_t(height_));
+    for (int y = 0; y < height_; ++y)
+        for (int x = 0; x < width_; ++x)
+            pixels_[size_t(y) * width_ + x] =
+                scale * Color(radiance.at(x, y, channel[0]), radiance.at(x, y, channel[1]),
+                              radiance.at(x, y, channel[2]));
+
+    // The sampling weight of each pixel's cell (pbrt-v3's InfiniteAreaLight, section 14.2.4):
+    // luminance times sin(theta), the Jacobian of the map, at the cell's centre row. The
+    // luminance is that of the brightest of the 3 x 3 pixels around it, whose centres the
+    // bilinear radiance over the cell interpolates, so that every direction where radiance() can
+    // be positive has a positive density.
+    std::vector<float> weight(pixels_.size());
+    for (int y = 0; y < height_; ++y) {
+        const float sinTheta = std::sin(kPi * (float(y) + 0.5f) / float(height_));
+        for (int x = 0; x < width_; ++x) {
+            Color brightest(0.0f);
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx) {
+                    const int row = std::clamp(y + dy, 0, height_ - 1);
+                    const int column = (x + dx + width_) % width_;
+                    brightest = glm::max(brightest, pixels_[size_t(row) * width_ + column]);
+                }
+            weight[size_t(y) * width_ + x] = luminance(brightest) * sinTheta;
+        }
+    }
+
+    // The conditional density of u in each row, then the marginal density of v over rows
+    // (pbrt-v3's Distribution2D, section 13.6.7).
+    columnPdf_.resize(pixels_.size());
+    columnCdf_.resize(size_t(height_) * (width_ + 1));
+    std::vector<float> rowIntegral(height_);
+    for (int y = 0; y < height_; ++y) {
+        const size_t row = size_t(y) * width_;
+        rowIntegral[y] = float(tabulate(
+            std::span(weight).subspan(row, width_), std::span(columnPdf_).subspan(row, width_),
+            std::span(columnCdf_).subspan(y * size_t(width_ + 1), width_ + 1)));
+    }
+    rowPdf_.resize(height_);
+    rowCdf_.resize(height_ + 1);
+    tabulate(rowIntegral, rowPdf_, rowCdf_);
+
+    // The integral of the radiance over the sphere, for power(): each pixel's value, constant
+    // over its cell, times the cell's solid angle (2 pi / W)(cos theta_top - cos theta_bottom).
+    // It differs from the integral of the bilinear radiance by O(1 / H²) where the map is smooth.
+    glm::dvec3 integral(0.0);
+    for (int y = 0; y < height_; ++y) {
+        const double solidAngle =
+            2.0 * double(kPi) / width_ *
+            (std::cos(double(kPi) * y / height_) - std::cos(double(kPi) * (y + 1) / height_));
+        glm::dvec3 rowSum(0.0);
+        for (int x = 0; x < width_; ++x)
+            rowSum += glm::dvec3(pixels_[size_t(y) * width_ + x]);
+        integral += rowSum * solidAngle;
+    }
+    integral_ = Color(integral);
+}
+
+Color EnvironmentLight::radiance(const Vec3& towards) const {
+    const Vec2 uv = directionToUv(worldToLocal_ * towards);
+    // Bilinear between pixel centres, pixel (x, y) centred at ((x + 0.5) / W, (y + 0.5) / H).
+    const float x = uv.x * float(width_) - 0.5f, y = uv.y * float(height_) - 0.5f;
+    const float x0 = std::floor(x), y0 = std::floor(y);
+    const float fx = x - x0, fy = y - y0;
+    const auto pixel = [&](int column, int row) {
+        column = ((column % width_) + width_) % width_;  // wraps around in u
+        row = std::clamp(row, 0, height_ - 1);           // clamped at the poles
+        return pixels_[size_t(row) * width_ + column];
+    };
+    const int ix = int(x0), iy = int(y0);
+    return (1.0f - fy) * ((1.0f - fx) * pixel(ix, iy) + fx * pixel(ix + 1, iy)) +
+           fy * ((1.0f - fx) * pixel(ix, iy + 1) + fx * pixel(ix + 1, iy + 1));
+}
+
+// pbrt-v3's InfiniteAreaLight::Pdf_Li (section 14.2.4): the density p(u, v) of the image
+// coordinates over the Jacobian of the map, d omega = 2 pi² sin(theta) du dv.
+float EnvironmentLight::pdfDirection(const Vec3& towards) const {
+    const Vec3 local = worldToLocal_ * towards;
+    const float sinTheta = safeSqrt(1.0f - sqr(glm::clamp(local.y, -1.0f, 1.0f)));
+    if (!(sinTheta > 0.0f))
+        return 0.0f;
+    const Vec2 uv = directionToUv(local);
+    const int x = std::min(int(uv.x * float(width_)), width_ - 1);
+    const int y = std::min(int(uv.y * float(height_)), height_ - 1);
+    const float p = rowPdf_[y] * columnPdf_[size_t(y) * width_ + x];
+    return p / (2.0f * kPi * kPi * sinTheta);
+}
+
+std::optional<LightLiSample> EnvironmentLight::sampleLi(const LightSampleContext& ctx,
+                                                        Vec2 u) const {
+    // A row from the marginal, then u within the row from its conditional (section 13.6.7).
+    const SegmentSample row = sampleContinuous(rowCdf_, u.y);
+    const SegmentSample column = sampleContinuous(
+        std::span(columnCdf_).subspan(size_t(row.index) * (width_ + 1), width_ + 1), u.x);
+    const Vec3 wi =
+        glm::transpose(worldToLocal_) * uvToDirection(Vec2(column.position, row.position));
+
+    // The density is looked up again from wi, so that it is exactly what MIS gets from
+    // pdfDirection() for the same direction.
+    const float pdf = pdfDirection(wi);
+    const Color L = radiance(wi);
+    if (!(pdf > 0.0f) || maxComponent(L) <= 0.0f)
+        return std::nullopt;
+    // A target beyond the scene's bounding sphere, whatever the receiver's position.
+    const float reach = glm::length(ctx.p - sceneCenter_) + 2.0f * sceneRadius_;
+    return LightLiSample{L, wi, pdf, ctx.p + wi * reach, Vec3(0.0f), Vec3(0.0f)};
+}
+
+// pbrt-v4's ImageInfiniteLight::SampleLe: the direction from the distribution, the origin uniform
+// on the disc of the bounding radius facing it, one radius behind the scene's centre.
+std::optional<LightLeSample> EnvironmentLight::sampleLe(Vec2 uPosition, Vec2 uDirection) const {
+    const std::optional<LightLiSample> li = sampleLi(LightSampleContext{sceneCenter_}, uDirection);
+    if (!li)
+        return std::nullopt;
+    LightLeSample s;
+    s.w = -li->wi;
+    const Frame frame = Frame::fromNormal(s.w);
+    const Vec2 d = sampleConcentricDisk(uPosition) * sceneRadius_;
+    s.p = sceneCenter_ - s.w * sceneRadius_ + frame.s * d.x + frame.t * d.y;
+    s.L = li->L;
+    s.pdfPos = 1.0f / (kPi * sqr(sceneRadius_));
+    s.pdfDir = li->pdf;
+    return s;
+}
+
+Color EnvironmentLight::emittedLe(const LightLeSample&, const Vec3& w) const {
+    return radiance(-w);
+}
+
+// pbrt-v4's ImageInfiniteLight::Phi: the flux through the disc of the bounding radius.
+Color EnvironmentLight::power() const {
+    return kPi * sqr(sceneRadius_) * integral_;
+}
+
+std::string EnvironmentLight::describe() const {
+    std::ostringstream out;
+    out << "environment '" << name_ << "' " << width_ << " x " << height_ << ", scale " << scale_;
+    return out.str();
+}
+
+std::string findBadEnvironmentPixel(const Image& radiance) {
+    for (int y = 0; y < radiance.height(); ++y)
+        for (int x = 0; x < radiance.width(); ++x)
+            for (int c = 0; c < radiance.channels(); ++c) {
+                const float value = radiance.at(x, y, c);
+                if (std::isfinite(value) && value >= 0.0f)
+                    continue;
+                std::ostringstream out;
+                out << "pixel (" << x << ", " << y << ") channel " << radiance.channelNames()[c]
+                    << ": " << value;
+                return out.str();
+            }
+    return "";
+}
+
+// Right-handed R_y(theta) = [[cos, 0, sin], [0, 1, 0], [-sin, 0, cos]] maps the map's frame to the
+// world; worldToLocal is its transpose, written here by columns as GLM stores it.
+Mat3 environmentRotation(float degrees) {
+    const float theta = glm::radians(degrees);
+    const float c = std::cos(theta), s = std::sin(theta);
+    return Mat3(Vec3(c, 0.0f, s), Vec3(0.0f, 1.0f, 0.0f), Vec3(-s, 0.0f, c));
+}
+
+}  // namespace penumbra
