@@ -4,9 +4,11 @@
 #include "core/environment_source.h"
 #include "core/errors.h"
 #include "core/gltf_loader.h"
+#include "core/sky.h"
 
 #include <filesystem>
 #include <iostream>
+#include <sstream>
 
 namespace penumbra::cli {
 
@@ -34,6 +36,17 @@ void addSceneInputOptions(CLI::App& command, SceneInput& input, PassScripts scri
     command.add_option("--environment-rotation", input.environment.rotationDegrees,
                        "Turns the environment about the up axis (+Y), degrees, counter-clockwise "
                        "seen from above (default 0)");
+    command.add_option("--sky", input.environment.sky,
+                       std::string("A sky as the environment light: ") + skyModelNames());
+    command
+        .add_option("--sky-illuminance", input.environment.skyIlluminance,
+                    "The sky's unobstructed horizontal illuminance, lux, the ground excluded "
+                    "(default 10000)")
+        ->check(CLI::PositiveNumber);
+    command
+        .add_option("--ground-reflectance", input.environment.groundReflectance,
+                    "Below the horizon a ground of luminance R E_h / pi (default 0.2)")
+        ->check(CLI::Range(0.0, 1.0));
 }
 
 std::optional<PassScript> readPassScript(SceneInput& input) {
@@ -50,6 +63,12 @@ std::optional<PassScript> readPassScript(SceneInput& input) {
         environment.scale = script.environmentScale;
     if (!environment.rotationDegrees && script.environmentRotation)
         environment.rotationDegrees = script.environmentRotation;
+    if (!environment.sky && script.sky)
+        environment.sky = script.sky;
+    if (!environment.skyIlluminance && script.skyIlluminance)
+        environment.skyIlluminance = script.skyIlluminance;
+    if (!environment.groundReflectance && script.groundReflectance)
+        environment.groundReflectance = script.groundReflectance;
     return script;
 }
 
@@ -57,9 +76,39 @@ namespace {
 
 // The environment the user asked for: a new one from a file, or the scene's own scaled and
 // turned.
+// The sky of `input.sky`, with its options' defaults.
+EnvironmentDesc makeSky(const EnvironmentInput& input, float scale, const Mat3& turn) {
+    SkySettings settings;
+    settings.model = *input.sky;
+    settings.horizontalIlluminance = input.skyIlluminance.value_or(settings.horizontalIlluminance);
+    settings.groundReflectance = input.groundReflectance.value_or(settings.groundReflectance);
+    EnvironmentDesc sky;
+    try {
+        sky.radiance = skyMap(settings);
+    } catch (const std::invalid_argument& e) {
+        const std::string message = e.what();
+        throw UsageError("--sky: " + message);
+    }
+    std::ostringstream name;
+    name << "sky " << settings.model << ", " << settings.horizontalIlluminance
+         << " lux, ground reflectance " << settings.groundReflectance;
+    sky.file = name.str();
+    sky.scale = scale;
+    sky.worldToLocal = turn;
+    return sky;
+}
+
 void applyEnvironment(const EnvironmentInput& input, SceneDescription& description) {
     const float scale = input.scale.value_or(1.0f);
     const Mat3 turn = environmentRotation(input.rotationDegrees.value_or(0.0f));
+    if (input.file && input.sky)
+        throw UsageError("--environment and --sky: give one environment light, not both");
+    if (!input.sky && (input.skyIlluminance || input.groundReflectance))
+        throw UsageError("--sky-illuminance and --ground-reflectance need --sky");
+    if (input.sky) {
+        description.environment = makeSky(input, scale, turn);
+        return;
+    }
     if (input.file) {
         description.environment = readEnvironment(*input.file, scale, turn);
         return;

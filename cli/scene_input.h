@@ -13,12 +13,16 @@
 namespace penumbra::cli {
 
 // The environment light the user gives or adjusts (--environment, --environment-scale,
-// --environment-rotation, or a pass script's keys of the same names): absent values leave the
+// --environment-rotation, or a pass script's keys of the same names), or a sky (--sky,
+// --sky-illuminance, --ground-reflectance: core/sky.h) in its place: absent values leave the
 // scene's own environment as it is.
 struct EnvironmentInput {
     std::optional<std::string> file;
-    std::optional<float> scale;            // > 0, multiplies the environment's radiance
-    std::optional<float> rotationDegrees;  // about +Y, counter-clockwise seen from above
+    std::optional<std::string> sky;
+    std::optional<float> skyIlluminance;     // lux, > 0
+    std::optional<float> groundReflectance;  // in [0, 1]
+    std::optional<float> scale;              // > 0, multiplies the environment's radiance
+    std::optional<float> rotationDegrees;    // about +Y, counter-clockwise seen from above
 };
 
 struct SceneInput {

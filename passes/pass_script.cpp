@@ -13,6 +13,9 @@
 //   environment  string                    the scene's        environment image, relative to it
 //   environment_scale     float > 0        1                  multiplies its radiance
 //   environment_rotation  float            0                  degrees about +Y
+//   sky          string                    none               a sky model (core/sky.h)
+//   sky_illuminance       float > 0        10000              lux, horizontal, unobstructed
+//   ground_reflectance    float in [0, 1]  0.2                the ground below the horizon
 //   pass         array of tables           required           the passes, in order
 #include "passes/pass_script.h"
 
@@ -368,12 +371,12 @@ std::optional<std::string> readEnvironmentFile(const ScriptTable& top) {
     return path;
 }
 
-std::optional<float> readEnvironmentScale(const ScriptTable& top) {
-    const std::optional<float> scale = top.find<float>("environment_scale");
-    if (scale && !(std::isfinite(*scale) && *scale > 0.0f)) {
-        throw top.error("environment_scale", "expected a number > 0, got " + number(*scale));
-    }
-    return scale;
+// A number that must be finite and > 0.
+std::optional<float> readPositive(const ScriptTable& top, const std::string& key) {
+    const std::optional<float> value = top.find<float>(key);
+    if (value && !(std::isfinite(*value) && *value > 0.0f))
+        throw top.error(key, "expected a number > 0, got " + number(*value));
+    return value;
 }
 
 // Outputs resolved against the script's folder, each checked as `-o` is (checkOutputPath).
@@ -446,8 +449,11 @@ PassScript loadPassScript(const std::string& path) {
         .seed = optionalIn<int64_t>(top, "seed", 0, std::numeric_limits<uint32_t>::max()),
         .outputs = readOutputs(top),
         .environment = readEnvironmentFile(top),
-        .environmentScale = readEnvironmentScale(top),
+        .environmentScale = readPositive(top, "environment_scale"),
         .environmentRotation = top.find<float>("environment_rotation"),
+        .sky = top.find<std::string>("sky"),
+        .skyIlluminance = readPositive(top, "sky_illuminance"),
+        .groundReflectance = optionalIn(top, "ground_reflectance", 0.0f, 1.0f),
         .passes = {},
         .topLevel = top};
 

@@ -112,6 +112,10 @@ struct PassScript {
     // relative to the script's folder, a scale > 0 and a rotation about +Y in degrees.
     std::optional<std::string> environment;
     std::optional<float> environmentScale, environmentRotation;
+    // A sky in place of the environment (core/sky.h): its model, its unobstructed horizontal
+    // illuminance (lux) and the ground's reflectance.
+    std::optional<std::string> sky;
+    std::optional<float> skyIlluminance, groundReflectance;
     std::vector<ScriptPass> passes;  // at least one, in order
     ScriptTable topLevel;            // for errors about top-level values found later
 };

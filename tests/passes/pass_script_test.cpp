@@ -151,7 +151,7 @@ TEST_F(PassScriptTest, UnknownTopLevelKey) {
     EXPECT_EQ(firstLine(error(kScene + "widht = 64\n" + kPath)),
               "2:1: widht: unknown key; valid keys here: scene, scene_index, camera, width, "
               "height, spp, seed, output, environment, environment_scale, "
-              "environment_rotation, pass");
+              "environment_rotation, sky, sky_illuminance, ground_reflectance, pass");
     // A depth belongs to the path pass, not to the script.
     EXPECT_EQ(firstLine(error(kScene + "max_depth = 3\n" + kPath)).substr(0, 27),
               "2:1: max_depth: unknown key");
@@ -197,6 +197,8 @@ TEST_F(PassScriptTest, OutOfRange) {
               "2:8: seed: expected an integer in [0, 4294967295], got -1");
     EXPECT_EQ(firstLine(error(kScene + "environment_scale = 0\n" + kPath)),
               "2:21: environment_scale: expected a number > 0, got 0");
+    EXPECT_EQ(firstLine(error(kScene + "ground_reflectance = 1.5\n" + kPath)),
+              "2:22: ground_reflectance: expected a number in [0, 1], got 1.5");
     EXPECT_EQ(firstLine(error(kScene + "environment_rotation = \"east\"\n" + kPath)).substr(0, 38),
               "2:24: environment_rotation: expected a");
 }
