@@ -22,13 +22,14 @@ std::array<int, 3> radianceChannels(const Image& image) {
 // The equirectangular mapping of the header (Mitsuba 0.5's envmap): a direction of the map's frame
 // to image coordinates in [0, 1]², and back.
 Vec2 directionToUv(const Vec3& local) {
-    const float u = 0.5f * (1.0f + std::atan2(local.x, -local.z) * kInvPi);
+    const float turn = 0.5f * std::atan2(local.x, -local.z) * kInvPi;  // in [-1/2, 1/2]
+    const float u = turn < 0.0f ? turn + 1.0f : turn;
     const float v = std::acos(glm::clamp(local.y, -1.0f, 1.0f)) * kInvPi;
-    return Vec2(u, v);
+    return Vec2(std::min(u, 1.0f), v);
 }
 
 Vec3 uvToDirection(Vec2 uv) {
-    const float phi = (2.0f * uv.x - 1.0f) * kPi, theta = uv.y * kPi;
+    const float phi = 2.0f * kPi * uv.x, theta = uv.y * kPi;
     const float sinTheta = std::sin(theta);
     return Vec3(sinTheta * std::sin(phi), std::cos(theta), -sinTheta * std::cos(phi));
 }

@@ -8,12 +8,13 @@
 //
 // The map's frame. A direction d in world space (+Y up, glTF) is first taken into the map's own
 // frame, d' = worldToLocal * d; its pixel is then
-//     u = (1 + atan2(d'.x, -d'.z) / pi) / 2,   v = acos(d'.y) / pi,
+//     u = atan2(d'.x, -d'.z) / (2 pi)  (plus 1 where negative),   v = acos(d'.y) / pi,
 // u across the image from its left edge, v down from its top row: the top row is the zenith, the
-// middle row the horizon, the centre column looks along -Z and u grows turning from -Z to +X.
-// This is the mapping of Mitsuba 0.5's envmap, so that a Mitsuba scene's `toWorld` is the inverse
-// of worldToLocal. Units: the pixels, times `scale`, are radiance in cd/m² per linear-sRGB
-// channel.
+// middle row the horizon, the left edge looks along -Z, u grows turning from -Z to +X (a quarter
+// across), the centre column looks along +Z. This is the mapping of Mitsuba 0.5's envmap
+// (src/emitters/envmap.cpp, evalDirection and internalSampleDirection), so that a Mitsuba
+// scene's `toWorld` is the inverse of worldToLocal. Units: the pixels, times `scale`, are radiance
+// in cd/m² per linear-sRGB channel.
 #pragma once
 
 #include "core/image.h"

@@ -146,7 +146,7 @@ INSTANTIATE_TEST_SUITE_P(EveryPipeline, UniformSky,
                          testing::Values("reference", "distribution", "hybrid", "hybrid-preview",
                                          "radiosity"));
 
-// A map lit on its left half (u < 1/2: the map's directions with x < 0) and black on the right.
+// A map lit on its left half (u < 1/2: the map's directions with x > 0) and black on the right.
 Color leftHalf(float u, float) {
     return u < 0.5f ? Color(2.0f) : Color(0.0f);
 }
@@ -175,19 +175,20 @@ TEST_P(HalfLitSky, TurnsAsTheOptionsSay) {
     EXPECT_NEAR(luminanceMean(image), expected, 0.02 * kRho * 2.0);
 }
 
-// The map's left half looks along -X; turned by +90 degrees (counter-clockwise seen from above)
-// -X goes to +Z (R_y(90) (-1, 0, 0) = (0, 0, 1)); the scale multiplies.
+// The map's left half looks along +X; turned by -90 degrees (clockwise seen from above) +X goes to
+// +Z (R_y(-90) (1, 0, 0) = (0, 0, 1)), by +90 to -Z; the scale multiplies.
 INSTANTIATE_TEST_SUITE_P(Orientations, HalfLitSky,
-                         testing::Values(Lighting{{-1, 0, 0}, "", 1.0f},
-                                         Lighting{{1, 0, 0}, "", 0.0f},
+                         testing::Values(Lighting{{1, 0, 0}, "", 1.0f},
+                                         Lighting{{-1, 0, 0}, "", 0.0f},
                                          Lighting{{0, 0, 1}, "", 0.5f},
-                                         Lighting{{0, 0, 1}, "--environment-rotation 90", 1.0f},
+                                         Lighting{{0, 0, 1}, "--environment-rotation -90", 1.0f},
+                                         Lighting{{0, 0, 1}, "--environment-rotation 90", 0.0f},
                                          Lighting{{-1, 0, 0}, "--environment-rotation 90", 0.5f},
-                                         Lighting{{1, 0, 0}, "--environment-rotation 180", 1.0f},
-                                         Lighting{{-1, 0, 0}, "--environment-scale 3", 3.0f}));
+                                         Lighting{{-1, 0, 0}, "--environment-rotation 180", 1.0f},
+                                         Lighting{{1, 0, 0}, "--environment-scale 3", 3.0f}));
 
 // A converted Mitsuba scene records its envmap in the scene's extras, with the map's toWorld:
-// R_y(90) there is what --environment-rotation 90 does, and the file is found next to the glTF.
+// R_y(-90) there is what --environment-rotation -90 does, and the file is found next to the glTF.
 TEST(EnvironmentFromExtras, ReadsTheConvertedSceneRecord) {
     TempDir dir("extras");
     writeMap(dir.file("sky.exr"), 64, 32, leftHalf);
@@ -196,13 +197,13 @@ TEST(EnvironmentFromExtras, ReadsTheConvertedSceneRecord) {
     lookAtFace(scene, {0, 0, 1});
     scene.setSceneExtras(
         R"({"mitsuba_environment": [{"type": "envmap", "file": "sky.exr", "scale": 1.5,
-            "toWorld_rowmajor": [0, 0, 1, 0, 0, 1, 0, 0, -1, 0, 0, 0, 0, 0, 0, 1]}]})");
+            "toWorld_rowmajor": [0, 0, -1, 0, 0, 1, 0, 0, 1, 0, 0, 0, 0, 0, 0, 1]}]})");
     const Image image = renderWith(scene, dir, "--width 8 --height 8 --spp 64");
     EXPECT_NEAR(luminanceMean(image), kRho * 2.0 * 1.5, 0.02 * kRho * 2.0 * 1.5);
     // The options adjust the scene's own environment: turned back, the +Z face sees half of it.
     const Image turned = renderWith(scene, dir,
                                     "--width 8 --height 8 --spp 64 "
-                                    "--environment-rotation -90");
+                                    "--environment-rotation 90");
     EXPECT_NEAR(luminanceMean(turned), kRho * 1.5, 0.02 * kRho * 2.0 * 1.5);
 }
 

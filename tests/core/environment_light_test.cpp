@@ -46,7 +46,7 @@ Image sunImage(int width, int height, float sun) {
     });
 }
 
-// The direction at (theta, phi) of the header's inverse mapping, phi = (2u - 1) pi, theta = v pi.
+// The direction at (theta, phi) of the header's inverse mapping, phi = 2 pi u, theta = v pi.
 Vec3 mapDirection(double theta, double phi) {
     return Vec3(float(std::sin(theta) * std::sin(phi)), float(std::cos(theta)),
                 float(-std::sin(theta) * std::cos(phi)));
@@ -64,12 +64,12 @@ Vec3 zUpToYUp(const Vec3& w) {
 // The mapping --------------------------------------------------------------------------------
 
 // A 4 x 2 map whose pixels all differ; pixel (x, y) is centred at theta = pi/4 (top row) or
-// 3 pi/4, phi = -3 pi/4, -pi/4, pi/4, 3 pi/4: by the header's formulas its direction is
+// 3 pi/4, phi = pi/4, 3 pi/4, 5 pi/4, 7 pi/4: by the header's formulas its direction is
 // (+-1/2, +-sqrt(1/2), +-1/2) with the signs below.
 Color mappingPixel(int x, int y) {
     return Color(1.0f + float(x + 4 * y), 10.0f + 2.0f * float(x), 0.5f + 3.0f * float(y));
 }
-const float kSignX[4] = {-1.0f, -1.0f, 1.0f, 1.0f}, kSignZ[4] = {1.0f, -1.0f, -1.0f, 1.0f};
+const float kSignX[4] = {1.0f, 1.0f, -1.0f, -1.0f}, kSignZ[4] = {-1.0f, 1.0f, 1.0f, -1.0f};
 
 TEST(EnvironmentLight, PixelCentresGiveTheirPixels) {
     constexpr float kScale = 2.0f;
@@ -81,24 +81,24 @@ TEST(EnvironmentLight, PixelCentresGiveTheirPixels) {
             const Vec3 d(0.5f * kSignX[x], y == 0 ? s : -s, 0.5f * kSignZ[x]);
             expectColorNear(light.radiance(d), kScale * mappingPixel(x, y), 1e-5);
         }
-    // The image's centre, -Z on the horizon, lies between the four middle pixels; +Z between the
-    // first and last columns, across the seam (wrapping in u).
+    // The image's centre, +Z on the horizon, lies between the four middle pixels; -Z between the
+    // last and first columns, across the seam (wrapping in u).
     const auto mean4 = [](int x0, int x1) {
         return 0.25f * kScale *
                (mappingPixel(x0, 0) + mappingPixel(x1, 0) + mappingPixel(x0, 1) +
                 mappingPixel(x1, 1));
     };
-    expectColorNear(light.radiance(Vec3(0, 0, -1)), mean4(1, 2), 1e-5);
-    expectColorNear(light.radiance(Vec3(0, 0, 1)), mean4(3, 0), 1e-5);
+    expectColorNear(light.radiance(Vec3(0, 0, 1)), mean4(1, 2), 1e-5);
+    expectColorNear(light.radiance(Vec3(0, 0, -1)), mean4(3, 0), 1e-5);
     // Above the top row's centres the radiance is the top row's (clamped in v).
     expectColorNear(light.radiance(mapDirection(kPiD / 8.0, -kPiD / 4.0)),
-                    kScale * mappingPixel(1, 0), 1e-5);
+                    kScale * mappingPixel(3, 0), 1e-5);
     EXPECT_EQ(light.describe(), "environment 'map.exr' 4 x 2, scale 2");
 }
 
 TEST(EnvironmentLight, RotationMovesTheMapAboutUp) {
     // R_y(90) = [[0, 0, 1], [0, 1, 0], [-1, 0, 0]] takes the map's direction (a, b, c) to the
-    // world's (c, b, -a): the image centre, -Z, to -X.
+    // world's (c, b, -a): the map's -Z (the image's left edge) to -X.
     const Mat3 worldToLocal = environmentRotation(90.0f);
     const Vec3 centre = worldToLocal * Vec3(-1.0f, 0.0f, 0.0f);
     EXPECT_NEAR(centre.x, 0.0f, 1e-6f);
