@@ -152,7 +152,7 @@ std::unique_ptr<Scene> loadScene(const SceneInput& input) {
     if (!input.quiet && scene->lights().empty()) {
         std::cerr << "penumbra: warning: " << input.path
                   << ": the scene has no lights and no emissive surfaces; the image will be "
-                     "black (give an environment light with --environment FILE)\n";
+                     "black (light it with --environment FILE or --sky MODEL)\n";
     }
     return scene;
 }
