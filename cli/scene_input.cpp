@@ -56,19 +56,18 @@ std::optional<PassScript> readPassScript(SceneInput& input) {
     input.path = script.scene;
     if (input.sceneIndex < 0 && script.sceneIndex)
         input.sceneIndex = *script.sceneIndex;
+    // The command line's environment options win over the script's.
+    const auto unlessGiven = [](auto& option, const auto& fromScript) {
+        if (!option)
+            option = fromScript;
+    };
     EnvironmentInput& environment = input.environment;
-    if (!environment.file && script.environment)
-        environment.file = script.environment;
-    if (!environment.scale && script.environmentScale)
-        environment.scale = script.environmentScale;
-    if (!environment.rotationDegrees && script.environmentRotation)
-        environment.rotationDegrees = script.environmentRotation;
-    if (!environment.sky && script.sky)
-        environment.sky = script.sky;
-    if (!environment.skyIlluminance && script.skyIlluminance)
-        environment.skyIlluminance = script.skyIlluminance;
-    if (!environment.groundReflectance && script.groundReflectance)
-        environment.groundReflectance = script.groundReflectance;
+    unlessGiven(environment.file, script.environment);
+    unlessGiven(environment.scale, script.environmentScale);
+    unlessGiven(environment.rotationDegrees, script.environmentRotation);
+    unlessGiven(environment.sky, script.sky);
+    unlessGiven(environment.skyIlluminance, script.skyIlluminance);
+    unlessGiven(environment.groundReflectance, script.groundReflectance);
     return script;
 }
 
