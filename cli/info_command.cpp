@@ -31,6 +31,9 @@ void printInfo(const Scene& scene) {
             case LightKind::Environment:
                 ++lightCounts["environment"];
                 break;
+            case LightKind::Goniometric:
+                ++lightCounts["goniometric (IES, EULUMDAT)"];
+                break;
         }
     }
     size_t emissiveMaterials = 0;

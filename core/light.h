@@ -16,7 +16,7 @@
 
 namespace penumbra {
 
-enum class LightKind { Point, Spot, Directional, Area, Environment };
+enum class LightKind { Point, Spot, Directional, Area, Environment, Goniometric };
 
 // The receiving point of a light sample.
 struct LightSampleContext {
