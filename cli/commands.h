@@ -41,6 +41,7 @@ Command addRenderCommand(CLI::App& app);
 Command addInfoCommand(CLI::App& app);
 Command addBakeCommand(CLI::App& app);
 Command addPlanCommand(CLI::App& app);
+Command addIlluminanceCommand(CLI::App& app);
 StatusCommand addDiffCommand(CLI::App& app);
 StatusCommand addBenchCommand(CLI::App& app);
 

@@ -21,6 +21,7 @@ int main(int argc, char** argv) {
     penumbra::cli::Command info = penumbra::cli::addInfoCommand(app);
     penumbra::cli::Command bake = penumbra::cli::addBakeCommand(app);
     penumbra::cli::Command plan = penumbra::cli::addPlanCommand(app);
+    penumbra::cli::Command illuminance = penumbra::cli::addIlluminanceCommand(app);
     penumbra::cli::StatusCommand diff = penumbra::cli::addDiffCommand(app);
     penumbra::cli::StatusCommand bench = penumbra::cli::addBenchCommand(app);
 
@@ -40,6 +41,8 @@ int main(int argc, char** argv) {
             bake();
         if (app.got_subcommand("plan"))
             plan();
+        if (app.got_subcommand("illuminance"))
+            illuminance();
         if (app.got_subcommand("diff"))
             return diff();
         if (app.got_subcommand("bench"))

@@ -5,6 +5,7 @@
 #include "core/errors.h"
 #include "core/gltf_loader.h"
 #include "core/sky.h"
+#include "core/solar_position.h"
 
 #include <filesystem>
 #include <iostream>
@@ -47,6 +48,18 @@ void addSceneInputOptions(CLI::App& command, SceneInput& input, PassScripts scri
         .add_option("--ground-reflectance", input.environment.groundReflectance,
                     "Below the horizon a ground of luminance R E_h / pi (default 0.2)")
         ->check(CLI::Range(0.0, 1.0));
+    command.add_option("--site", input.environment.site,
+                       "Where the sun is seen from: LAT,LON in degrees, north and east positive");
+    command.add_option("--time", input.environment.time,
+                       "Local time with its UTC offset, ISO 8601: 2026-06-21T12:00+02:00");
+    command.add_option("--north", input.environment.northDegrees,
+                       "The angle of true north from the scene's -Z axis, degrees, "
+                       "counter-clockwise seen from above (+Y) (default 0)");
+    command
+        .add_option("--sun-direct-normal", input.environment.sunDirectNormal,
+                    "The sun's direct normal illuminance, lux: adds the sun's disc (0.53 "
+                    "degrees) at the position --site and --time give")
+        ->check(CLI::NonNegativeNumber);
 }
 
 std::optional<PassScript> readPassScript(SceneInput& input) {
@@ -68,21 +81,71 @@ std::optional<PassScript> readPassScript(SceneInput& input) {
     unlessGiven(environment.sky, script.sky);
     unlessGiven(environment.skyIlluminance, script.skyIlluminance);
     unlessGiven(environment.groundReflectance, script.groundReflectance);
+    unlessGiven(environment.site, script.site);
+    unlessGiven(environment.time, script.time);
+    unlessGiven(environment.northDegrees, script.north);
+    unlessGiven(environment.sunDirectNormal, script.sunDirectNormal);
     return script;
 }
 
 namespace {
 
-// The environment the user asked for: a new one from a file, or the scene's own scaled and
-// turned.
-// The sky of `input.sky`, with its options' defaults.
-EnvironmentDesc makeSky(const EnvironmentInput& input, float scale, const Mat3& turn) {
+// The sun's place for --site and --time, in world axes.
+struct SunPlace {
+    Vec3 direction{0.0f, 1.0f, 0.0f};
+    double zenithDegrees = 0.0;
+    std::string description;  // for messages and the light's name
+};
+
+// Where --site, --time and --north put the sun; nothing without them.
+std::optional<SunPlace> placeSun(const EnvironmentInput& input) {
+    if (!input.site && !input.time) {
+        if (input.northDegrees)
+            throw UsageError("--north turns the sun's position: it needs --site and --time");
+        return std::nullopt;
+    }
+    if (!input.site || !input.time)
+        throw UsageError("--site and --time place the sun together: give both");
+    SolarPosition position;
+    try {
+        position = solarPosition(parseSite(*input.site), parseIsoLocalTime(*input.time));
+    } catch (const std::invalid_argument& e) {
+        const std::string message = e.what();
+        throw UsageError(message);
+    }
+    SunPlace sun;
+    sun.direction = sunDirection(position, input.northDegrees.value_or(0.0f));
+    sun.zenithDegrees = position.zenithDegrees;
+    std::ostringstream text;
+    text.precision(4);
+    text << "sun at " << *input.site << " on " << *input.time << ": altitude "
+         << 90.0 - position.zenithDegrees << " deg, azimuth " << position.azimuthDegrees << " deg";
+    sun.description = text.str();
+    return sun;
+}
+
+// The sun's horizontal illuminance, for the ground's glow: E_n cos Z_s.
+float sunOnTheGround(const std::optional<SunDisc>& sun) {
+    return sun ? sun->directNormalIlluminance * std::max(0.0f, sun->direction.y) : 0.0f;
+}
+
+// The sky of `input.sky`, with its options' defaults, and the sun's glow when it needs one.
+EnvironmentDesc makeSky(const EnvironmentInput& input, const std::optional<SunPlace>& place,
+                        const std::optional<SunDisc>& sun) {
     SkySettings settings;
     settings.model = *input.sky;
     settings.horizontalIlluminance = input.skyIlluminance.value_or(settings.horizontalIlluminance);
     settings.groundReflectance = input.groundReflectance.value_or(settings.groundReflectance);
+    settings.sunHorizontalIlluminance = sunOnTheGround(sun);
+    if (place)
+        settings.sunDirection = place->direction;
     EnvironmentDesc sky;
     try {
+        if (skyNeedsSun(settings.model) && !place) {
+            throw UsageError("--sky " + settings.model +
+                             ": this sky depends on the sun; place it with --site LAT,LON and "
+                             "--time (e.g. 2026-06-21T12:00+02:00)");
+        }
         sky.radiance = skyMap(settings);
     } catch (const std::invalid_argument& e) {
         const std::string message = e.what();
@@ -92,9 +155,42 @@ EnvironmentDesc makeSky(const EnvironmentInput& input, float scale, const Mat3& 
     name << "sky " << settings.model << ", " << settings.horizontalIlluminance
          << " lux, ground reflectance " << settings.groundReflectance;
     sky.file = name.str();
-    sky.scale = scale;
-    sky.worldToLocal = turn;
     return sky;
+}
+
+// No sky and no image, only the sun: a black sky over the ground's glow of the sun's light.
+EnvironmentDesc makeSunOnly(const EnvironmentInput& input, const std::optional<SunDisc>& sun) {
+    constexpr int kWidth = 64, kHeight = 32;
+    const float reflectance = input.groundReflectance.value_or(SkySettings{}.groundReflectance);
+    const float ground = reflectance * sunOnTheGround(sun) * kInvPi;
+    EnvironmentDesc desc;
+    desc.radiance = Image(kWidth, kHeight, {"R", "G", "B"});
+    for (int y = kHeight / 2; y < kHeight; ++y)
+        for (int x = 0; x < kWidth; ++x)
+            for (int c = 0; c < 3; ++c)
+                desc.radiance.at(x, y, c) = ground;
+    desc.file = "no sky, ground reflectance " + std::to_string(reflectance);
+    return desc;
+}
+
+// The sun's disc for --sun-direct-normal at `place`.
+std::optional<SunDisc> makeSun(const EnvironmentInput& input,
+                               const std::optional<SunPlace>& place) {
+    if (!input.sunDirectNormal)
+        return std::nullopt;
+    if (!place) {
+        throw UsageError(
+            "--sun-direct-normal needs the sun's position: --site LAT,LON and --time (e.g. "
+            "2026-06-21T12:00+02:00)");
+    }
+    if (place->zenithDegrees >= 90.0 && *input.sunDirectNormal > 0.0f) {
+        throw UsageError("--sun-direct-normal: the " + place->description +
+                         " is below the horizon; it gives no direct light");
+    }
+    SunDisc sun;
+    sun.direction = place->direction;
+    sun.directNormalIlluminance = *input.sunDirectNormal;
+    return sun;
 }
 
 void applyEnvironment(const EnvironmentInput& input, SceneDescription& description) {
@@ -102,26 +198,48 @@ void applyEnvironment(const EnvironmentInput& input, SceneDescription& descripti
     const Mat3 turn = environmentRotation(input.rotationDegrees.value_or(0.0f));
     if (input.file && input.sky)
         throw UsageError("--environment and --sky: give one environment light, not both");
-    if (!input.sky && (input.skyIlluminance || input.groundReflectance))
-        throw UsageError("--sky-illuminance and --ground-reflectance need --sky");
-    if (input.sky) {
-        description.environment = makeSky(input, scale, turn);
-        return;
+    const std::optional<SunPlace> place = placeSun(input);
+    const std::optional<SunDisc> sun = makeSun(input, place);
+    if (!input.sky && input.skyIlluminance)
+        throw UsageError("--sky-illuminance needs --sky");
+    if (!input.sky && !sun && input.groundReflectance)
+        throw UsageError("--ground-reflectance needs --sky or --sun-direct-normal");
+    if (place && !input.sky && !sun) {
+        throw UsageError(
+            "--site and --time place the sun for --sky or --sun-direct-normal; "
+            "give one of them");
     }
-    if (input.file) {
-        description.environment = readEnvironment(*input.file, scale, turn);
-        return;
+    if (place && input.sky && input.rotationDegrees) {
+        throw UsageError(
+            "--environment-rotation would turn the sky away from the sun; turn "
+            "the site with --north instead");
     }
-    if (!input.scale && !input.rotationDegrees)
-        return;
-    if (!description.environment) {
-        throw UsageError(description.file +
-                         ": --environment-scale and --environment-rotation need an environment: "
-                         "the scene has none; give one with --environment FILE");
+    if (input.sky || input.file) {
+        EnvironmentDesc environment =
+            input.sky ? makeSky(input, place, sun) : readEnvironment(*input.file, scale, turn);
+        if (input.sky) {
+            environment.scale = scale;
+            environment.worldToLocal = turn;
+        }
+        description.environment = std::move(environment);
+    } else if (sun && !description.environment) {
+        description.environment = makeSunOnly(input, sun);
+    } else if (input.scale || input.rotationDegrees) {
+        if (!description.environment) {
+            throw UsageError(description.file +
+                             ": --environment-scale and --environment-rotation need an "
+                             "environment: the scene has none; give one with --environment FILE");
+        }
+        // Turning the map by R about +Y: the map's frame sees world direction d where it saw
+        // R^T d.
+        description.environment->scale *= scale;
+        description.environment->worldToLocal = description.environment->worldToLocal * turn;
     }
-    // Turning the map by R about +Y: the map's frame sees world direction d where it saw R^T d.
-    description.environment->scale *= scale;
-    description.environment->worldToLocal = description.environment->worldToLocal * turn;
+    // The sun joins whatever environment there now is: the scene's own, an image or a sky.
+    if (sun) {
+        description.environment->sun = sun;
+        description.environment->file += ", " + place->description;
+    }
 }
 
 }  // namespace

@@ -14,8 +14,8 @@ namespace penumbra::cli {
 
 // The environment light the user gives or adjusts (--environment, --environment-scale,
 // --environment-rotation, or a pass script's keys of the same names), or a sky (--sky,
-// --sky-illuminance, --ground-reflectance: core/sky.h) in its place: absent values leave the
-// scene's own environment as it is.
+// --sky-illuminance, --ground-reflectance: core/sky.h) in its place, and the sun: absent values
+// leave the scene's own environment as it is.
 struct EnvironmentInput {
     std::optional<std::string> file;
     std::optional<std::string> sky;
@@ -23,6 +23,12 @@ struct EnvironmentInput {
     std::optional<float> groundReflectance;  // in [0, 1]
     std::optional<float> scale;              // > 0, multiplies the environment's radiance
     std::optional<float> rotationDegrees;    // about +Y, counter-clockwise seen from above
+    // The sun (--site, --time, --north, --sun-direct-normal): its position places the sun's
+    // disc (core/sun_disc.h) and the glow of the skies that depend on it.
+    std::optional<std::string> site;       // "LAT,LON", degrees
+    std::optional<std::string> time;       // ISO 8601 with the UTC offset
+    std::optional<float> northDegrees;     // true north from -Z, counter-clockwise seen from above
+    std::optional<float> sunDirectNormal;  // E_n, lux, >= 0
 };
 
 struct SceneInput {

@@ -72,7 +72,8 @@ SegmentSample sampleContinuous(std::span<const float> cdf, float u) {
 }  // namespace
 
 EnvironmentLight::EnvironmentLight(const Image& radiance, const Mat3& worldToLocal, float scale,
-                                   const Vec3& sceneCenter, float sceneRadius, std::string name)
+                                   const Vec3& sceneCenter, float sceneRadius, std::string name,
+                                   const std::optional<SunDisc>& sun)
     : width_(radiance.width()),
       height_(radiance.height()),
       worldToLocal_(worldToLocal),
@@ -144,6 +145,20 @@ EnvironmentLight::EnvironmentLight(const Image& radiance, const Mat3& worldToLoc
         integral += rowSum * solidAngle;
     }
     integral_ = Color(integral);
+
+    if (sun && sun->directNormalIlluminance > 0.0f) {
+        if (!(sun->angularRadius > 0.0f) || !std::isfinite(sun->directNormalIlluminance))
+            throw std::invalid_argument("EnvironmentLight: a sun needs a disc and a finite E_n");
+        sun_ = sun;
+        sun_->direction = glm::normalize(sun->direction);
+        // The shares of the luminous power: the sun's E_n against the map's integral.
+        const float map = luminance(integral_);
+        sunProbability_ = sun->directNormalIlluminance / (sun->directNormalIlluminance + map);
+    }
+}
+
+bool EnvironmentLight::inSun(const Vec3& towards) const {
+    return sun_ && sun_->contains(towards);
 }
 
 Color EnvironmentLight::radiance(const Vec3& towards) const {
@@ -158,13 +173,19 @@ Color EnvironmentLight::radiance(const Vec3& towards) const {
         return pixels_[size_t(row) * width_ + column];
     };
     const int ix = int(x0), iy = int(y0);
-    return (1.0f - fy) * ((1.0f - fx) * pixel(ix, iy) + fx * pixel(ix + 1, iy)) +
-           fy * ((1.0f - fx) * pixel(ix, iy + 1) + fx * pixel(ix + 1, iy + 1));
+    const Color map = (1.0f - fy) * ((1.0f - fx) * pixel(ix, iy) + fx * pixel(ix + 1, iy)) +
+                      fy * ((1.0f - fx) * pixel(ix, iy + 1) + fx * pixel(ix + 1, iy + 1));
+    return inSun(towards) ? map + Color(sun_->radiance()) : map;
 }
 
 // pbrt-v3's InfiniteAreaLight::Pdf_Li (section 14.2.4): the density p(u, v) of the image
 // coordinates over the Jacobian of the map, d omega = 2 pi² sin(theta) du dv.
 float EnvironmentLight::pdfDirection(const Vec3& towards) const {
+    const float sun = inSun(towards) ? sunProbability_ / sun_->solidAngle() : 0.0f;
+    return (1.0f - sunProbability_) * mapPdf(towards) + sun;
+}
+
+float EnvironmentLight::mapPdf(const Vec3& towards) const {
     const Vec3 local = worldToLocal_ * towards;
     const float sinTheta = safeSqrt(1.0f - sqr(glm::clamp(local.y, -1.0f, 1.0f)));
     if (!(sinTheta > 0.0f))
@@ -178,12 +199,13 @@ float EnvironmentLight::pdfDirection(const Vec3& towards) const {
 
 std::optional<LightLiSample> EnvironmentLight::sampleLi(const LightSampleContext& ctx,
                                                         Vec2 u) const {
-    // A row from the marginal, then u within the row from its conditional (section 13.6.7).
-    const SegmentSample row = sampleContinuous(rowCdf_, u.y);
-    const SegmentSample column = sampleContinuous(
-        std::span(columnCdf_).subspan(size_t(row.index) * (width_ + 1), width_ + 1), u.x);
-    const Vec3 wi =
-        glm::transpose(worldToLocal_) * uvToDirection(Vec2(column.position, row.position));
+    // The sun with its probability, u.x rescaled to [0, 1) for the part chosen.
+    Vec3 wi;
+    if (u.x < sunProbability_) {
+        wi = sun_->sample(Vec2(u.x / sunProbability_, u.y));
+    } else {
+        wi = sampleMap(Vec2((u.x - sunProbability_) / (1.0f - sunProbability_), u.y));
+    }
 
     // The density is looked up again from wi, so that it is exactly what MIS gets from
     // pdfDirection() for the same direction.
@@ -194,6 +216,14 @@ std::optional<LightLiSample> EnvironmentLight::sampleLi(const LightSampleContext
     // A target beyond the scene's bounding sphere, whatever the receiver's position.
     const float reach = glm::length(ctx.p - sceneCenter_) + 2.0f * sceneRadius_;
     return LightLiSample{L, wi, pdf, ctx.p + wi * reach, Vec3(0.0f), Vec3(0.0f)};
+}
+
+Vec3 EnvironmentLight::sampleMap(Vec2 u) const {
+    // A row from the marginal, then u within the row from its conditional (section 13.6.7).
+    const SegmentSample row = sampleContinuous(rowCdf_, u.y);
+    const SegmentSample column = sampleContinuous(
+        std::span(columnCdf_).subspan(size_t(row.index) * (width_ + 1), width_ + 1), u.x);
+    return glm::transpose(worldToLocal_) * uvToDirection(Vec2(column.position, row.position));
 }
 
 // pbrt-v4's ImageInfiniteLight::SampleLe: the direction from the distribution, the origin uniform
@@ -219,12 +249,18 @@ Color EnvironmentLight::emittedLe(const LightLeSample&, const Vec3& w) const {
 
 // pbrt-v4's ImageInfiniteLight::Phi: the flux through the disc of the bounding radius.
 Color EnvironmentLight::power() const {
-    return kPi * sqr(sceneRadius_) * integral_;
+    const Color sun(sun_ ? sun_->directNormalIlluminance : 0.0f);
+    return kPi * sqr(sceneRadius_) * (integral_ + sun);
 }
 
 std::string EnvironmentLight::describe() const {
     std::ostringstream out;
     out << "environment '" << name_ << "' " << width_ << " x " << height_ << ", scale " << scale_;
+    if (sun_) {
+        const Vec3& d = sun_->direction;
+        out << ", sun " << sun_->directNormalIlluminance << " lux towards (" << d.x << ", " << d.y
+            << ", " << d.z << ")";
+    }
     return out.str();
 }
 

@@ -21,7 +21,9 @@
 #include "core/light.h"
 #include "core/math.h"
 #include "core/sampling.h"
+#include "core/sun_disc.h"
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -35,15 +37,22 @@ class EnvironmentLight : public Light {
     // findBadEnvironmentPixel()). worldToLocal must be a rotation. The scene's bounding sphere
     // places shadow-ray targets beyond the scene and the photons' starting disc, and gives
     // power(). `name` is what describe() prints (the file).
+    //
+    // `sun`, when given, adds the sun's disc (core/sun_disc.h) to the map: radiance() sees it,
+    // and sampling draws it with the probability of its share of the light's luminous power,
+    // a uniform direction in its cone (a one-sample mixture of the two densities, which
+    // pdfDirection() returns, so MIS weighs both parts).
     EnvironmentLight(const Image& radiance, const Mat3& worldToLocal, float scale,
-                     const Vec3& sceneCenter, float sceneRadius, std::string name);
+                     const Vec3& sceneCenter, float sceneRadius, std::string name,
+                     const std::optional<SunDisc>& sun = std::nullopt);
 
     LightKind kind() const override { return LightKind::Environment; }
     bool isDelta() const override { return false; }
 
     // Radiance (cd/m²) arriving at any point from unit world direction `towards` (the direction
     // a ray that escapes the scene travels): the image bilinearly interpolated between pixel
-    // centres, wrapping around in u and clamped in v, times the scale.
+    // centres, wrapping around in u and clamped in v, times the scale, plus the sun's radiance
+    // inside its disc.
     Color radiance(const Vec3& towards) const;
     // Solid-angle density (1/sr) with which sampleLi() draws unit world direction `towards`.
     float pdfDirection(const Vec3& towards) const;
@@ -63,7 +72,8 @@ class EnvironmentLight : public Light {
     // radiance(-w).
     Color emittedLe(const LightLeSample& origin, const Vec3& w) const override;
     // The flux (lm) through the disc of the bounding radius: pi R² times the integral of the
-    // radiance over the sphere of directions (pbrt-v4's ImageInfiniteLight::Phi).
+    // radiance over the sphere of directions (pbrt-v4's ImageInfiniteLight::Phi), the sun's
+    // E_n included.
     Color power() const override;
     std::string describe() const override;
 
@@ -80,7 +90,15 @@ class EnvironmentLight : public Light {
     std::vector<float> rowPdf_;     // height_ entries, density over v in [0, 1]
     std::vector<float> columnCdf_;  // height_ x (width_ + 1)
     std::vector<float> columnPdf_;  // height_ x width_, density over u in [0, 1] given the row
-    Color integral_{0.0f};          // integral of the radiance over the sphere, cd/m² sr
+    Color integral_{0.0f};          // integral of the map's radiance over the sphere, cd/m² sr
+    // The sun's disc and the probability with which sampling draws it.
+    std::optional<SunDisc> sun_;
+    float sunProbability_ = 0.0f;
+
+    // The map's own density and sample, before the mixture with the sun.
+    float mapPdf(const Vec3& towards) const;
+    Vec3 sampleMap(Vec2 u) const;
+    bool inSun(const Vec3& towards) const;
 };
 
 // The first pixel of an environment image that is not a finite value >= 0, as "pixel (x, y)

@@ -61,7 +61,7 @@ Scene::Scene(SceneDescription description) : desc_(std::move(description)) {
         auto light = std::make_unique<EnvironmentLight>(
             env.radiance, env.worldToLocal, env.scale,
             bounds_.empty() ? Vec3(0.0f) : bounds_.center(),
-            bounds_.empty() ? 1.0f : bounds_.boundingRadius(), env.file);
+            bounds_.empty() ? 1.0f : bounds_.boundingRadius(), env.file, env.sun);
         environment_ = light.get();
         environmentIndex_ = static_cast<int>(lights_.size());
         lights_.push_back(std::move(light));

@@ -16,10 +16,15 @@
 //   sky          string                    none               a sky model (core/sky.h)
 //   sky_illuminance       float > 0        10000              lux, horizontal, unobstructed
 //   ground_reflectance    float in [0, 1]  0.2                the ground below the horizon
+//   site         string "LAT,LON"          none               where the sun is seen from
+//   time         string (ISO 8601)         none               local time with its UTC offset
+//   north        float                     0                  true north from -Z, degrees
+//   sun_direct_normal     float >= 0       none               the sun's E_n, lux
 //   pass         array of tables           required           the passes, in order
 #include "passes/pass_script.h"
 
 #include "core/image_io.h"
+#include "core/solar_position.h"
 
 #include <toml++/toml.h>
 
@@ -372,6 +377,22 @@ std::optional<std::string> readEnvironmentFile(const ScriptTable& top) {
 }
 
 // A number that must be finite and > 0.
+// A string that `parse` accepts (it throws std::invalid_argument with its reason otherwise),
+// refused at its place in the script.
+template <typename Parse>
+std::optional<std::string> readChecked(const ScriptTable& top, const std::string& key,
+                                       const Parse& parse) {
+    const std::optional<std::string> text = top.find<std::string>(key);
+    if (text) {
+        try {
+            parse(*text);
+        } catch (const std::invalid_argument& e) {
+            throw top.error(key, e.what());
+        }
+    }
+    return text;
+}
+
 std::optional<float> readPositive(const ScriptTable& top, const std::string& key) {
     const std::optional<float> value = top.find<float>(key);
     if (value && !(std::isfinite(*value) && *value > 0.0f))
@@ -454,6 +475,11 @@ PassScript loadPassScript(const std::string& path) {
         .sky = top.find<std::string>("sky"),
         .skyIlluminance = readPositive(top, "sky_illuminance"),
         .groundReflectance = optionalIn(top, "ground_reflectance", 0.0f, 1.0f),
+        .site = readChecked(top, "site", parseSite),
+        .time = readChecked(top, "time", parseIsoLocalTime),
+        .north = top.find<float>("north"),
+        .sunDirectNormal =
+            optionalIn(top, "sun_direct_normal", 0.0f, std::numeric_limits<float>::max()),
         .passes = {},
         .topLevel = top};
 

@@ -116,6 +116,11 @@ struct PassScript {
     // illuminance (lux) and the ground's reflectance.
     std::optional<std::string> sky;
     std::optional<float> skyIlluminance, groundReflectance;
+    // The sun (cli/scene_input.h): the site "LAT,LON" and the local time with its UTC offset
+    // (checked by core/solar_position.h's parsers), the angle of true north from -Z (degrees,
+    // counter-clockwise seen from above) and the direct normal illuminance (lux, >= 0).
+    std::optional<std::string> site, time;
+    std::optional<float> north, sunDirectNormal;
     std::vector<ScriptPass> passes;  // at least one, in order
     ScriptTable topLevel;            // for errors about top-level values found later
 };

@@ -304,9 +304,23 @@ TEST(EnvironmentInput, RefusesWhatItCannotUse) {
     refused("--environment " + dir.file("negative.exr"),
             "negative.exr: pixel (2, 1) channel R: -1");
     refused("--environment " + dir.file("scene.gltf"), "scene.gltf");
-    refused("--sky cie:12", "--sky: unknown sky 'cie:12'");
+    refused("--sky cie:16", "--sky: unknown sky 'cie:16'");
+    refused("--sky cie:12", "--sky cie:12: this sky depends on the sun; place it with --site");
     refused("--sky uniform --environment " + dir.file("negative.exr"), "not both");
-    refused("--ground-reflectance 0.5", "need --sky");
+    refused("--ground-reflectance 0.5", "needs --sky or --sun-direct-normal");
+    // The sun: its position needs both the site and the time, well formed, and a sun above the
+    // horizon to give direct light.
+    const std::string noon = " --site 48.85,2.35 --time 2026-06-21T13:00+02:00";
+    refused("--sun-direct-normal 50000", "--sun-direct-normal needs the sun's position");
+    refused("--sky cie-clear --site 48.85,2.35", "--site and --time place the sun together");
+    refused("--sky cie-clear --site 48.85,2.35 --time 2026-06-21T13:00",
+            "time \"2026-06-21T13:00\"");
+    refused("--sky cie-clear --site 95,2 --time 2026-06-21T13:00+02:00", "site \"95,2\"");
+    refused("--sun-direct-normal 50000 --site 48.85,2.35 --time 2026-06-21T01:00+02:00",
+            "is below the horizon");
+    refused("--north 30", "--north turns the sun's position: it needs --site and --time");
+    refused(noon, "--site and --time place the sun for --sky or --sun-direct-normal");
+    refused("--sky cie-clear --environment-rotation 10" + noon, "turn the site with --north");
 
     GltfBuilder mirrored = scene;
     mirrored.setSceneExtras(R"({"mitsuba_environment": [{"type": "envmap", "file": "sky.exr",

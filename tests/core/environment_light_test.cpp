@@ -382,6 +382,85 @@ TEST(EnvironmentLight, BlackMapEmitsNothing) {
     EXPECT_FALSE(light.sampleLe(Vec2(0.5f), Vec2(0.3f, 0.6f)));
 }
 
+// The sun's disc -------------------------------------------------------------------------
+
+// A sun 35 degrees above the horizon, E_n = 80 000 lux.
+SunDisc testSun() {
+    SunDisc sun;
+    sun.direction = glm::normalize(Vec3(0.4f, std::tan(glm::radians(35.0f)), -0.9165f));
+    sun.directNormalIlluminance = 80000.0f;
+    return sun;
+}
+
+TEST(EnvironmentLight, SunAloneLightsAPlaneWithEnCosTheta) {
+    // Black map: every sample is in the disc. E = E_n cos(theta) up to the variation of the
+    // cosine over the disc (its radius is 0.0046 rad: at most 0.5 % of E at 60 degrees from the
+    // normal, 1e-5 facing it).
+    const SunDisc sun = testSun();
+    const EnvironmentLight light(makeImage(16, 8, [](int, int) { return Color(0.0f); }), Mat3(1.0f),
+                                 1.0f, kCenter, kRadius, "", sun);
+    const float angles[] = {0.0f, 30.0f, 60.0f};
+    for (float degrees : angles) {
+        // A normal turned from the sun's direction by `degrees`.
+        const Vec3 side = glm::normalize(glm::cross(sun.direction, Vec3(0.0f, 1.0f, 0.0f)));
+        const Vec3 n = glm::normalize(std::cos(glm::radians(degrees)) * sun.direction +
+                                      std::sin(glm::radians(degrees)) * side);
+        const LightSampleContext ctx{kCenter, Vec3(0.0f), n};
+        const Irradiance e =
+            irradiance(n, 20000, 29, [&](Vec2 u) { return light.sampleLi(ctx, u); });
+        const double expected = sun.directNormalIlluminance * std::cos(glm::radians(degrees));
+        std::printf("[ measured ] %2.0f degrees: E = %.2f lux, E_n cos = %.2f\n", degrees, e.mean.y,
+                    expected);
+        EXPECT_NEAR(e.mean.y, expected, 1e-3 * sun.directNormalIlluminance);
+    }
+    // Inside the disc the radiance is E_n over its solid angle, outside it nothing.
+    EXPECT_NEAR(light.radiance(sun.direction).g, sun.directNormalIlluminance / sun.solidAngle(),
+                1e-3f * sun.radiance());
+    const Vec3 offDisc = glm::normalize(sun.direction + Vec3(0.0f, 0.01f, 0.0f));
+    EXPECT_EQ(light.radiance(offDisc), Color(0.0f));
+    EXPECT_EQ(light.power(), Color(kPi * sqr(kRadius) * sun.directNormalIlluminance));
+}
+
+TEST(EnvironmentLight, SunAndSkyAddUp) {
+    // The mixture of the sky's distribution and the disc: its samples carry the density and
+    // radiance pdfDirection() and radiance() give, and the irradiance it estimates is the sky's
+    // (from a light without the sun) plus E_n cos(theta).
+    const SunDisc sun = testSun();
+    const Image sky = sunImage(24, 12, 20.0f);
+    const EnvironmentLight withSun(sky, environmentRotation(30.0f), 1.0f, kCenter, kRadius, "",
+                                   sun);
+    const EnvironmentLight skyOnly(sky, environmentRotation(30.0f), 1.0f, kCenter, kRadius, "");
+    const LightSampleContext ctx{kCenter, Vec3(0.0f), glm::normalize(Vec3(0.2f, 1.0f, 0.3f))};
+    std::mt19937 rng(31);
+    std::uniform_real_distribution<float> uniform(0.0f, 1.0f);
+    int inDisc = 0;
+    for (int i = 0; i < 20000; ++i) {
+        const std::optional<LightLiSample> s =
+            withSun.sampleLi(ctx, Vec2(uniform(rng), uniform(rng)));
+        if (!s)
+            continue;
+        ASSERT_EQ(s->pdf, withSun.pdfDirection(s->wi));
+        ASSERT_EQ(s->L, withSun.radiance(s->wi));
+        inDisc += sun.contains(s->wi);
+    }
+    // The disc's share of the samples is its share of the luminous power.
+    const double skyIntegral = luminance(skyOnly.power()) / (kPiD * sqr(kRadius));
+    const double share = sun.directNormalIlluminance / (sun.directNormalIlluminance + skyIntegral);
+    EXPECT_NEAR(inDisc / 20000.0, share, 4.0 * std::sqrt(share * (1.0 - share) / 20000.0));
+
+    const Irradiance both =
+        irradiance(ctx.n, 200000, 37, [&](Vec2 u) { return withSun.sampleLi(ctx, u); });
+    const Irradiance skyAlone =
+        irradiance(ctx.n, 200000, 41, [&](Vec2 u) { return skyOnly.sampleLi(ctx, u); });
+    const double sunPart = sun.directNormalIlluminance * glm::dot(ctx.n, sun.direction);
+    const double sigma = std::hypot(both.standardError.y, skyAlone.standardError.y);
+    std::printf("[ measured ] sun and sky %.2f +- %.2f, sky %.2f + sun %.2f\n", both.mean.y,
+                both.standardError.y, skyAlone.mean.y, sunPart);
+    // 4 combined standard errors, plus the cosine's variation over the disc (1e-5 of the sun's).
+    EXPECT_NEAR(both.mean.y, skyAlone.mean.y + sunPart, 4.0 * sigma + 1e-4 * sunPart);
+    EXPECT_LT(sigma, 0.01 * (skyAlone.mean.y + sunPart));
+}
+
 // Validation ---------------------------------------------------------------------------------
 
 TEST(EnvironmentLight, FindsBadPixels) {

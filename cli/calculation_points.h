@@ -1,0 +1,40 @@
+// The CSV files of `penumbra illuminance`: calculation points in, their illuminance out.
+//
+// Input: one point per row, `x,y,z,nx,ny,nz` (metres in the glTF file's world frame, then the
+// sensor's normal, any non-zero length); a first row that is not numbers is a header; blank lines
+// and lines starting with '#' are skipped.
+// Output: the header `x,y,z,nx,ny,nz,illuminance_lux,stderr_lux` and one row per input point, in
+// the input's order, with the point and normal as the input gave them.
+#pragma once
+
+#include "raytrace/sensor_irradiance.h"
+
+#include <array>
+#include <string>
+#include <vector>
+
+namespace penumbra::cli {
+
+struct CalculationPoint {
+    std::array<double, 6> given{};  // x, y, z, nx, ny, nz as read, echoed in the output
+    Sensor sensor;                  // the same with a unit normal (in the file's frame)
+};
+
+struct PointIlluminance {
+    double lux = 0.0;            // mean illuminance (luminance-weighted, Rec. 709 Y)
+    double standardError = 0.0;  // of that mean, lux
+};
+
+// Reads the points of `path`. Throws InputError naming the file and line for an unreadable file,
+// a row that is not six finite numbers, a zero normal, or a file with no point.
+std::vector<CalculationPoint> readCalculationPoints(const std::string& path);
+
+// Throws InputError unless `path` ends in .csv and its directory exists: checked before the work.
+void checkPointsOutputPath(const std::string& path);
+
+// Writes the results, first to a temporary file in the same directory, renamed over `path` when
+// complete (nothing half-written is left on failure). Throws InputError when it cannot.
+void writePointIlluminance(const std::string& path, const std::vector<CalculationPoint>& points,
+                           const std::vector<PointIlluminance>& results);
+
+}  // namespace penumbra::cli

@@ -1,0 +1,133 @@
+// `penumbra illuminance SCENE --points IN.csv -o OUT.csv`: the illuminance at calculation points,
+// as a light meter would read it, with each value's standard error.
+#include "cli/calculation_points.h"
+#include "cli/commands.h"
+#include "cli/scene_input.h"
+#include "core/errors.h"
+#include "core/progress.h"
+#include "core/stats.h"
+#include "raytrace/path_tracer.h"
+#include "raytrace/sensor_irradiance.h"
+
+#include <tbb/global_control.h>
+#include <tbb/info.h>
+
+#include <chrono>
+#include <iostream>
+
+namespace penumbra::cli {
+
+namespace {
+
+struct IlluminanceOptions {
+    CLI::App* command = nullptr;
+    SceneInput scene;
+    std::string points;
+    std::string output;
+    std::string pipeline = "reference";
+    IlluminanceSettings settings;
+    int threads = 0;
+};
+
+void measure(IlluminanceOptions& options) {
+    IlluminanceSettings& settings = options.settings;
+    const std::optional<PassScript> script = readPassScript(options.scene);
+    if (script) {
+        if (options.command->count("--spp") == 0 && script->spp)
+            settings.samples = *script->spp;
+        if (options.command->count("--seed") == 0 && script->seed)
+            settings.seed = *script->seed;
+    }
+    if (options.pipeline != "reference") {
+        throw UsageError("--pipeline " + options.pipeline +
+                         ": `illuminance` computes its points with the reference path tracer "
+                         "only; give --pipeline reference or leave it out");
+    }
+    if (settings.samples < 2)
+        throw UsageError("--spp: at least 2 (a standard error needs two samples)");
+    checkPointsOutputPath(options.output);
+    const std::vector<CalculationPoint> points = readCalculationPoints(options.points);
+
+    const auto start = std::chrono::steady_clock::now();
+    const std::unique_ptr<Scene> scene = loadScene(options.scene);
+    const int threads = options.threads > 0 ? options.threads : tbb::info::default_concurrency();
+    tbb::global_control parallelism(tbb::global_control::max_allowed_parallelism, threads);
+    const PathTracer tracer(*scene, PathTracerSettings{});
+    // The points are in the file's world frame; the scene is stored relative to its origin
+    // (core/scene_description.h).
+    const glm::dvec3 origin = scene->description().origin;
+    std::vector<Sensor> sensors;
+    sensors.reserve(points.size());
+    for (const CalculationPoint& point : points) {
+        Sensor sensor = point.sensor;
+        sensor.p = Vec3(glm::dvec3(point.given[0], point.given[1], point.given[2]) - origin);
+        sensors.push_back(sensor);
+    }
+    std::vector<SensorReading> readings;
+    {
+        Progress progress("illuminance", uint64_t(sensors.size()) * uint64_t(settings.samples),
+                          options.scene.quiet);
+        readings = measureIlluminance(*scene, tracer, sensors, settings, &progress);
+        progress.finish();
+    }
+
+    std::vector<PointIlluminance> results;
+    int samples = readings.front().samples;
+    int dropped = 0;
+    for (const SensorReading& r : readings) {
+        results.push_back({r.lux, r.standardError});
+        samples = std::min(samples, r.samples);
+        dropped += r.dropped;
+    }
+    writePointIlluminance(options.output, points, results);
+    if (dropped > 0) {
+        std::cerr << "penumbra: warning: " << dropped
+                  << " non-finite samples dropped (a bug: please report it)\n";
+    }
+    if (!options.scene.quiet) {
+        std::cerr << "penumbra: wrote " << options.output << ": " << points.size() << " points, "
+                  << samples << " samples each, " << secondsSince(start) << " s\n";
+    }
+}
+
+}  // namespace
+
+Command addIlluminanceCommand(CLI::App& app) {
+    auto* command = app.add_subcommand(
+        "illuminance",
+        "Illuminance (lux) at calculation points read from a CSV file, with standard errors");
+    auto options = std::make_shared<IlluminanceOptions>();
+    options->command = command;
+    addSceneInputOptions(*command, options->scene, PassScripts::Accepted);
+    command
+        ->add_option("--points", options->points,
+                     "Calculation points: a CSV file of rows x,y,z,nx,ny,nz (metres in the glTF "
+                     "world frame, the sensor's normal; a header row allowed)")
+        ->required()
+        ->check(CLI::ExistingFile);
+    command
+        ->add_option("-o,--output", options->output,
+                     "Results: a CSV file with the header "
+                     "x,y,z,nx,ny,nz,illuminance_lux,stderr_lux, one row per point in order")
+        ->required();
+    command
+        ->add_option("--pipeline", options->pipeline, "The estimator: reference (the path tracer)")
+        ->capture_default_str();
+    command
+        ->add_option("--spp", options->settings.samples,
+                     "Samples per point (the target with --time-limit), at least 2")
+        ->check(atLeast(2))
+        ->capture_default_str();
+    command->add_option("--seed", options->settings.seed, "Random seed; same seed, same results")
+        ->capture_default_str();
+    command->add_option("--threads", options->threads, "Worker threads (default: all cores)")
+        ->check(atLeast(0));
+    command
+        ->add_option("--time-limit", options->settings.timeLimit,
+                     "Stop after about this many seconds, at a whole round of samples (every "
+                     "point gets the same number)")
+        ->check(CLI::NonNegativeNumber);
+    return [options] { measure(*options); };
+}
+
+}  // namespace penumbra::cli
