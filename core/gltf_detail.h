@@ -11,6 +11,7 @@
 #include <tiny_gltf.h>
 
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <span>
 #include <string>
@@ -106,5 +107,25 @@ int nodeLight(const Context& ctx, int node);
 PunctualLightDesc placeLight(PunctualLightDesc light, const glm::dmat4& world);
 // /cameras/<camera> placed by its node's global transform.
 CameraDesc placeCamera(const Context& ctx, int camera, const glm::dmat4& world, int node);
+// The rotation of a node's global transform, its scale removed, for what looks along its -Z
+// (`what`, a camera or a luminaire, names it in the warning a mirroring transform gets).
+glm::dmat3 nodeRotation(const Context& ctx, const glm::dmat4& world, int node,
+                        const std::string& what);
+
+// ---- gltf_luminaires.cpp: EXT_lights_ies -------------------------------------------------------
+
+// A light profile of the file, read and checked.
+struct LuminaireProfile {
+    std::string name;
+    std::shared_ptr<const CandelaTable> table;
+};
+// The file's EXT_lights_ies profiles (index i is profile i of the extension); a profile that
+// cannot be read fails at its place, with the profile's own file and line.
+std::vector<LuminaireProfile> readLuminaireProfiles(const Context& ctx);
+// The luminaire a node places through EXT_lights_ies, by its global transform; nothing when the
+// node has none.
+std::optional<LuminaireDesc> nodeLuminaire(const Context& ctx, int node,
+                                           const std::vector<LuminaireProfile>& profiles,
+                                           const glm::dmat4& world);
 
 }  // namespace penumbra::gltf

@@ -1,7 +1,6 @@
 // KHR_lights_punctual lights and glTF cameras, and their placement by node transforms.
 #include "core/gltf_detail.h"
 
-
 namespace penumbra::gltf {
 namespace {
 
@@ -113,18 +112,27 @@ CameraDesc placeCamera(const Context& ctx, int camera, const glm::dmat4& world, 
         out.znear = static_cast<float>(c.orthographic.znear);
     }
     // "The view matrix is derived from the global transform of the node containing the camera
-    // with the scaling ignored" (3.10.2): Gram-Schmidt keeps the viewing axis (-Z) exactly and
-    // the up axis (+Y) as nearly as possible, and completes a right-handed frame.
+    // with the scaling ignored" (3.10.2).
+    const glm::dmat3 r = nodeRotation(ctx, world, node, "camera");
+    out.cameraToWorld =
+        Mat4(glm::dmat4(glm::dvec4(r[0], 0.0), glm::dvec4(r[1], 0.0), glm::dvec4(r[2], 0.0),
+                        glm::dvec4(glm::dvec3(world[3]), 1.0)));
+    return out;
+}
+
+glm::dmat3 nodeRotation(const Context& ctx, const glm::dmat4& world, int node,
+                        const std::string& what) {
+    // Gram-Schmidt keeps the aim (-Z) exactly and the up axis (+Y) as nearly as possible, and
+    // completes a right-handed frame.
     const glm::dvec3 z = glm::normalize(glm::dvec3(world[2]));
     const glm::dvec3 y =
         glm::normalize(glm::dvec3(world[1]) - z * glm::dot(z, glm::dvec3(world[1])));
     const glm::dvec3 x = glm::cross(y, z);
     if (glm::dot(x, glm::dvec3(world[0])) < 0.0) {
-        ctx.warn(at("nodes", node), "the camera's node transform mirrors; the mirror is ignored");
+        ctx.warn(at("nodes", node),
+                 "the " + what + "'s node transform mirrors; the mirror is ignored");
     }
-    out.cameraToWorld = Mat4(glm::dmat4(glm::dvec4(x, 0.0), glm::dvec4(y, 0.0), glm::dvec4(z, 0.0),
-                                        glm::dvec4(glm::dvec3(world[3]), 1.0)));
-    return out;
+    return glm::dmat3(x, y, z);
 }
 
 }  // namespace penumbra::gltf

@@ -24,10 +24,11 @@ namespace {
 using gltf::at;
 using gltf::Context;
 
-constexpr std::array<std::string_view, 7> kSupportedExtensions = {
-    "KHR_lights_punctual",  "KHR_materials_emissive_strength", "KHR_materials_specular",
-    "KHR_materials_ior",    "KHR_materials_transmission",      "KHR_materials_volume",
-    "KHR_texture_transform"};
+constexpr std::array<std::string_view, 8> kSupportedExtensions = {
+    "KHR_lights_punctual",        "KHR_materials_emissive_strength",
+    "KHR_materials_specular",     "KHR_materials_ior",
+    "KHR_materials_transmission", "KHR_materials_volume",
+    "KHR_texture_transform",      "EXT_lights_ies"};
 
 bool isSupported(const std::string& extension) {
     return std::find(kSupportedExtensions.begin(), kSupportedExtensions.end(), extension) !=
@@ -147,9 +148,10 @@ glm::dmat4 localTransform(const tinygltf::Node& n) {
 class SceneFlattener {
   public:
     SceneFlattener(const Context& ctx, std::vector<PunctualLightDesc> lights,
-                   SceneDescription& desc)
+                   std::vector<gltf::LuminaireProfile> profiles, SceneDescription& desc)
         : ctx_(ctx),
           lights_(std::move(lights)),
+          profiles_(std::move(profiles)),
           desc_(desc),
           local_(ctx.model.meshes.size()),
           loaded_(ctx.model.meshes.size(), false) {}
@@ -165,6 +167,7 @@ class SceneFlattener {
 
     const Context& ctx_;
     const std::vector<PunctualLightDesc> lights_;
+    const std::vector<gltf::LuminaireProfile> profiles_;
     SceneDescription& desc_;
     std::vector<std::vector<std::optional<Mesh>>> local_;  // per glTF mesh, in local space
     std::vector<bool> loaded_;
@@ -246,6 +249,8 @@ void SceneFlattener::visit(int node, const glm::dmat4& world) {
     if (const int light = gltf::nodeLight(ctx_, node); light >= 0) {
         desc_.lights.push_back(gltf::placeLight(lights_[light], world));
     }
+    if (std::optional<LuminaireDesc> luminaire = gltf::nodeLuminaire(ctx_, node, profiles_, world))
+        desc_.luminaires.push_back(std::move(*luminaire));
 }
 
 void SceneFlattener::addMesh(int mesh, const glm::dmat4& world) {
@@ -295,7 +300,7 @@ SceneDescription loadGltf(const std::string& path, int sceneIndex) {
     gltf::validateModel(ctx, lights.size());
     const int scene = chooseScene(ctx, sceneIndex);
     gltf::loadMaterials(ctx, desc.materials, desc.textures);
-    SceneFlattener(ctx, std::move(lights), desc).flatten(scene);
+    SceneFlattener(ctx, std::move(lights), gltf::readLuminaireProfiles(ctx), desc).flatten(scene);
     desc.environment = gltf::readSceneEnvironment(ctx, scene);
     desc.sceneExtrasJson = model.scenes[scene].extras_json_string;
     return desc;

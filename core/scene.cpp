@@ -1,5 +1,6 @@
 #include "core/scene.h"
 
+#include "core/goniometric_light.h"
 #include "core/punctual_lights.h"
 #include "core/triangle_light.h"
 
@@ -25,7 +26,8 @@ Scene::Scene(SceneDescription description) : desc_(std::move(description)) {
             hasTransparentSurfaces_ || canBeTransparent(desc_.materials[mesh.material]);
     }
 
-    // Punctual lights first, then one area light per emissive triangle, then the environment.
+    // Punctual lights and luminaires first, then one area light per emissive triangle, then the
+    // environment.
     for (const PunctualLightDesc& light : desc_.lights) {
         switch (light.type) {
             case PunctualType::Point:
@@ -40,6 +42,11 @@ Scene::Scene(SceneDescription description) : desc_(std::move(description)) {
                     bounds_.empty() ? 1.0f : bounds_.boundingRadius()));
                 break;
         }
+    }
+    for (const LuminaireDesc& luminaire : desc_.luminaires) {
+        lights_.push_back(std::make_unique<GoniometricLight>(
+            luminaire.table, luminaire.position, luminaire.luminaireToWorld, luminaire.color,
+            luminaire.multiplier, luminaire.name));
     }
     triangleLights_.resize(desc_.meshes.size());
     for (size_t m = 0; m < desc_.meshes.size(); ++m) {

@@ -6,10 +6,12 @@
 #include "core/image.h"
 #include "core/material.h"
 #include "core/math.h"
+#include "core/photometry.h"
 #include "core/sun_disc.h"
 #include "core/texture.h"
 
 #include <array>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -44,6 +46,17 @@ struct PunctualLightDesc {
     float outerConeAngle = kPi / 4.0f;
     Vec3 position{0.0f};
     Vec3 direction{0.0f, 0.0f, -1.0f};  // direction the light travels (node's -Z), unit
+};
+
+// A measured luminaire (glTF EXT_lights_ies): a goniometric point light
+// (core/goniometric_light.h) whose table the luminaires of one profile share.
+struct LuminaireDesc {
+    std::string name;  // the profile's name or file, for messages
+    std::shared_ptr<const CandelaTable> table;
+    Vec3 position{0.0f};
+    Mat3 luminaireToWorld{1.0f};  // a rotation: the nadir along this frame's -Z, C0 along +X
+    Color color{1.0f};            // linear, in [0, 1]
+    float multiplier = 1.0f;      // >= 0
 };
 
 enum class ProjectionType { Perspective, Orthographic };
@@ -86,6 +99,7 @@ struct SceneDescription {
     std::vector<Material> materials;  // last entry is the glTF default material when used
     std::vector<Texture> textures;
     std::vector<PunctualLightDesc> lights;
+    std::vector<LuminaireDesc> luminaires;
     std::vector<CameraDesc> cameras;
     // From the scene's `extras` (a converted Mitsuba scene's envmap), or given by the user.
     std::optional<EnvironmentDesc> environment;

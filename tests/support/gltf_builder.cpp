@@ -180,6 +180,19 @@ std::string GltfBuilder::json() const {
         children.push_back(nodes.size() - 1);
     }
 
+    json profiles = json::array();
+    for (const TestLuminaire& luminaire : luminaires_) {
+        profiles.push_back({{"uri", luminaire.uri}});
+        nodes.push_back({{"translation", vec(luminaire.position)},
+                         {"rotation", quat(luminaire.rotation)},
+                         {"extensions",
+                          {{"EXT_lights_ies",
+                            {{"light", profiles.size() - 1},
+                             {"multiplier", luminaire.multiplier},
+                             {"color", vec(luminaire.color)}}}}}});
+        children.push_back(nodes.size() - 1);
+    }
+
     if (!cameraJson_.empty()) {
         gltf["cameras"] = json::array({json::parse(cameraJson_)});
         nodes.push_back({{"camera", 0},
@@ -204,7 +217,11 @@ std::string GltfBuilder::json() const {
         json::array({{{"byteLength", buffer.size()},
                       {"uri", "data:application/octet-stream;base64," + base64(buffer)}}});
     if (!lights.empty())
-        gltf["extensions"] = {{"KHR_lights_punctual", {{"lights", lights}}}};
+        gltf["extensions"]["KHR_lights_punctual"] = {{"lights", lights}};
+    if (!profiles.empty()) {
+        gltf["extensions"]["EXT_lights_ies"] = {{"lights", profiles}};
+        gltf["extensionsUsed"].push_back("EXT_lights_ies");
+    }
     return gltf.dump(1);
 }
 

@@ -29,6 +29,16 @@ struct TestLight {
     float innerConeAngle = 0.0f, outerConeAngle = kPi / 4.0f;
 };
 
+// A measured luminaire (EXT_lights_ies): a profile file and the node that places it.
+struct TestLuminaire {
+    std::string uri;  // the IES or LDT file, relative to the glTF file
+    Vec3 position{0.0f};
+    // glTF rotation quaternion (x, y, z, w) of the node; the profile's nadir is the node's -Z
+    Vec4 rotation{0.0f, 0.0f, 0.0f, 1.0f};
+    float multiplier = 1.0f;
+    Color color{1.0f};
+};
+
 class GltfBuilder {
   public:
     int addMaterial(const TestMaterial& material);
@@ -38,6 +48,8 @@ class GltfBuilder {
     // A quad p0 p1 p2 p3 (counter-clockwise seen from its front side).
     void addQuad(const Vec3& p0, const Vec3& p1, const Vec3& p2, const Vec3& p3, int material);
     void addLight(const TestLight& light);
+    // One profile per luminaire in the extension's `lights`, one node each.
+    void addLuminaire(const TestLuminaire& luminaire) { luminaires_.push_back(luminaire); }
     // An orthographic camera at `position` looking along -Z rotated by `rotation` (x, y, z, w).
     void setOrthographicCamera(const Vec3& position, const Vec4& rotation, float xmag, float ymag);
     void setPerspectiveCamera(const Vec3& position, const Vec4& rotation, float yfov);
@@ -59,6 +71,7 @@ class GltfBuilder {
     std::vector<TestMaterial> materials_;
     std::vector<MeshData> meshes_;
     std::vector<TestLight> lights_;
+    std::vector<TestLuminaire> luminaires_;
     std::string cameraJson_;
     std::string sceneExtras_;
     Vec3 cameraPosition_{0.0f};
