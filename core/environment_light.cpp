@@ -34,39 +34,23 @@ Vec3 uvToDirection(Vec2 uv) {
     return Vec3(sinTheta * std::sin(phi), std::cos(theta), -sinTheta * std::cos(phi));
 }
 
-// pbrt-v3's Distribution1D (Pharr, Jakob and Humphreys, 3rd ed., section 13.3.1): a
-// piecewise-constant function f of n equal segments of [0, 1] as the density pdf = f / integral
-// and its cdf (n + 1 entries). Where f is zero throughout, the cdf is uniform and pdf zero, so a
-// sample drawn from it gets density zero and is discarded. Returns the integral of f.
+// A piecewise-constant function f of n equal segments of [0, 1] as its density pdf = f / integral
+// and its cdf (n + 1 entries) (pbrt-v3's Distribution1D, section 13.3.1). Where f is zero
+// throughout, the cdf is uniform and the pdf zero, so a sample drawn from it gets density zero
+// and is discarded. Returns the integral of f.
 double tabulate(std::span<const float> f, std::span<float> pdf, std::span<float> cdf) {
     const size_t n = f.size();
-    double sum = 0.0;
-    for (float x : f)
-        sum += x;
-    double running = 0.0;
-    cdf[0] = 0.0f;
-    for (size_t i = 0; i < n; ++i) {
-        running += f[i];
+    const double sum = fillCdf(f, cdf);
+    for (size_t i = 0; i < n; ++i)
         pdf[i] = sum > 0.0 ? float(f[i] * double(n) / sum) : 0.0f;
-        cdf[i + 1] = sum > 0.0 ? float(running / sum) : float(double(i + 1) / double(n));
-    }
     return sum / double(n);
 }
 
-// Distribution1D::SampleContinuous (section 13.3.1): the segment with cdf[i] <= u < cdf[i + 1],
-// found by binary search, and u's place within it.
-struct SegmentSample {
-    int index;
-    float position;  // in [0, 1], linear within the segment
-};
-
-SegmentSample sampleContinuous(std::span<const float> cdf, float u) {
-    const int n = int(cdf.size()) - 1;
-    const int i =
-        std::clamp(int(std::upper_bound(cdf.begin(), cdf.end(), u) - cdf.begin()) - 1, 0, n - 1);
-    const float width = cdf[i + 1] - cdf[i];
-    const float offset = width > 0.0f ? glm::clamp((u - cdf[i]) / width, 0.0f, 1.0f) : 0.5f;
-    return {i, (float(i) + offset) / float(n)};
+// Distribution1D::SampleContinuous: u's place in [0, 1], linear within its segment.
+float sampleContinuous(std::span<const float> cdf, float u, int& index) {
+    const CdfEntry entry = invertCdf(cdf, u);
+    index = int(entry.index);
+    return float((double(entry.index) + entry.remainder) / double(cdf.size() - 1));
 }
 
 }  // namespace
@@ -220,10 +204,11 @@ std::optional<LightLiSample> EnvironmentLight::sampleLi(const LightSampleContext
 
 Vec3 EnvironmentLight::sampleMap(Vec2 u) const {
     // A row from the marginal, then u within the row from its conditional (section 13.6.7).
-    const SegmentSample row = sampleContinuous(rowCdf_, u.y);
-    const SegmentSample column = sampleContinuous(
-        std::span(columnCdf_).subspan(size_t(row.index) * (width_ + 1), width_ + 1), u.x);
-    return glm::transpose(worldToLocal_) * uvToDirection(Vec2(column.position, row.position));
+    int row = 0, column = 0;
+    const float v = sampleContinuous(rowCdf_, u.y, row);
+    const float uColumn = sampleContinuous(
+        std::span(columnCdf_).subspan(size_t(row) * (width_ + 1), width_ + 1), u.x, column);
+    return glm::transpose(worldToLocal_) * uvToDirection(Vec2(uColumn, v));
 }
 
 // pbrt-v4's ImageInfiniteLight::SampleLe: the direction from the distribution, the origin uniform

@@ -1,5 +1,7 @@
 #include "core/goniometric_light.h"
 
+#include "core/sampling.h"
+
 #include <algorithm>
 #include <cmath>
 #include <span>
@@ -69,35 +71,6 @@ std::optional<size_t> intervalOf(const std::vector<double>& edges, double x) {
     return std::min(upper, edges.size() - 1) - 1;
 }
 
-// Inversion of a discrete cdf (pbrt-v4's SampleDiscrete): the entry i with
-// cdf[i] <= u < cdf[i + 1], and where u falls between the two, a fresh uniform number for the
-// position within entry i.
-struct Pick {
-    size_t index;
-    double remainder;
-};
-
-Pick pick(std::span<const double> cdf, double u) {
-    const size_t upper = size_t(std::upper_bound(cdf.begin(), cdf.end(), u) - cdf.begin());
-    const size_t i = std::min(upper, cdf.size() - 1) - 1;
-    const double width = cdf[i + 1] - cdf[i];
-    return {i, width > 0 ? std::clamp((u - cdf[i]) / width, 0.0, 1.0) : 0.5};
-}
-
-// Running sums of `weights` over their total, a cdf of weights.size() + 1 entries; uniform when
-// the total is zero (such a slice is never picked: its marginal probability is zero).
-void accumulate(std::span<const double> weights, std::span<double> cdf) {
-    double total = 0.0;
-    for (double w : weights)
-        total += w;
-    double running = 0.0;
-    cdf[0] = 0.0;
-    for (size_t i = 0; i < weights.size(); ++i) {
-        running += weights[i];
-        cdf[i + 1] = total > 0 ? running / total : double(i + 1) / double(weights.size());
-    }
-}
-
 const CandelaTable& checkedTable(const std::shared_ptr<const CandelaTable>& table) {
     if (!table)
         throw std::invalid_argument("GoniometricLight: no candela table");
@@ -147,11 +120,11 @@ CandelaDistribution::CandelaDistribution(const CandelaTable& table)
     if (!(total > 0))
         return;  // a dark table: planeCdf_ stays empty and sample() gives nothing
     planeCdf_.resize(P + 1);
-    accumulate(sliceWeight, planeCdf_);
+    fillCdf(std::span<const double>(sliceWeight), planeCdf_);
     inPlaneCdf_.resize(P * (Q + 1));
     for (size_t p = 0; p < P; ++p)
-        accumulate(std::span(weight).subspan(p * Q, Q),
-                   std::span(inPlaneCdf_).subspan(p * (Q + 1), Q + 1));
+        fillCdf(std::span<const double>(weight).subspan(p * Q, Q),
+                std::span(inPlaneCdf_).subspan(p * (Q + 1), Q + 1));
     for (size_t c = 0; c < P * Q; ++c)
         density_[c] = float(weight[c] / total / solidAngle[c]);
 }
@@ -160,8 +133,9 @@ std::optional<CandelaDistribution::Sample> CandelaDistribution::sample(Vec2 u) c
     if (planeCdf_.empty())
         return std::nullopt;
     const size_t Q = inPlaneEdges_.size() - 1;
-    const Pick slice = pick(planeCdf_, u.x);
-    const Pick cell = pick(std::span(inPlaneCdf_).subspan(slice.index * (Q + 1), Q + 1), u.y);
+    const CdfEntry slice = invertCdf(std::span<const double>(planeCdf_), u.x);
+    const CdfEntry cell =
+        invertCdf(std::span<const double>(inPlaneCdf_).subspan(slice.index * (Q + 1), Q + 1), u.y);
     const float density = density_[slice.index * Q + cell.index];
     if (!(density > 0.0f))
         return std::nullopt;

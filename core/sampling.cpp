@@ -95,4 +95,44 @@ uint32_t AliasTable::sample(float u) const {
     return up < bins_[index].threshold ? index : bins_[index].alias;
 }
 
+namespace {
+
+template <typename T>
+double fillCdfOf(std::span<const T> weights, std::span<T> cdf) {
+    const size_t n = weights.size();
+    double total = 0.0;
+    for (T w : weights)
+        total += double(w);
+    double running = 0.0;
+    cdf[0] = T(0);
+    for (size_t i = 0; i < n; ++i) {
+        running += double(weights[i]);
+        cdf[i + 1] = T(total > 0.0 ? running / total : double(i + 1) / double(n));
+    }
+    return total;
+}
+
+template <typename T>
+CdfEntry invertCdfOf(std::span<const T> cdf, double u) {
+    const size_t upper = size_t(std::upper_bound(cdf.begin(), cdf.end(), T(u)) - cdf.begin());
+    const size_t i = std::clamp<size_t>(upper, 1, cdf.size() - 1) - 1;
+    const double width = double(cdf[i + 1]) - double(cdf[i]);
+    return {i, width > 0.0 ? std::clamp((u - double(cdf[i])) / width, 0.0, 1.0) : 0.5};
+}
+
+}  // namespace
+
+double fillCdf(std::span<const float> weights, std::span<float> cdf) {
+    return fillCdfOf(weights, cdf);
+}
+double fillCdf(std::span<const double> weights, std::span<double> cdf) {
+    return fillCdfOf(weights, cdf);
+}
+CdfEntry invertCdf(std::span<const float> cdf, double u) {
+    return invertCdfOf(cdf, u);
+}
+CdfEntry invertCdf(std::span<const double> cdf, double u) {
+    return invertCdfOf(cdf, u);
+}
+
 }  // namespace penumbra

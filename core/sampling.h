@@ -41,6 +41,27 @@ inline float powerHeuristic(float pdfA, float pdfB) {
     return a + b > 0.0f ? a / (a + b) : 0.0f;
 }
 
+// A discrete distribution over n entries by its cumulative distribution (pbrt-v3's
+// Distribution1D, Pharr, Jakob and Humphreys, 3rd ed., section 13.3.1), for sampling by binary
+// search where a sample's place within its entry matters (piecewise-constant densities over
+// cells: an environment map's pixels, a candela table's cells).
+//
+// fillCdf() writes cdf[0] = 0, cdf[i + 1] = (w_0 + ... + w_i) / total (n + 1 entries) for weights
+// w >= 0, uniform when the total is zero (the caller gives such a distribution no probability),
+// and returns the total, summed in double.
+double fillCdf(std::span<const float> weights, std::span<float> cdf);
+double fillCdf(std::span<const double> weights, std::span<double> cdf);
+
+// The entry i with cdf[i] <= u < cdf[i + 1], found by binary search, and where u falls between
+// the two, in [0, 1] (0.5 in an entry of zero width): a fresh uniform number for the position
+// within the entry.
+struct CdfEntry {
+    size_t index;
+    double remainder;
+};
+CdfEntry invertCdf(std::span<const float> cdf, double u);
+CdfEntry invertCdf(std::span<const double> cdf, double u);
+
 // Walker's alias method (Walker 1977; Vose 1991 construction) for O(1) sampling of a discrete
 // distribution proportional to non-negative weights. Zero weights are never chosen.
 class AliasTable {

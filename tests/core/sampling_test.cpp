@@ -86,5 +86,28 @@ TEST(Warps, UniformTriangleBarycentricsHaveMeanOneThird) {
     EXPECT_NEAR(mean.y, 1.0f / 3.0f, 3e-3f);
 }
 
+// The cdf of weights 1, 0, 3 is 0, 1/4, 1/4, 1 by hand; u = 0.1 falls 0.4 into entry 0, u = 0.5
+// a third into entry 2, and entry 1 (weight 0) is never found.
+TEST(Cdf, FillsAndInvertsByHand) {
+    const std::vector<double> weights = {1.0, 0.0, 3.0};
+    std::vector<double> cdf(4);
+    EXPECT_EQ(fillCdf(std::span<const double>(weights), cdf), 4.0);
+    EXPECT_EQ(cdf, (std::vector<double>{0.0, 0.25, 0.25, 1.0}));
+    const CdfEntry first = invertCdf(std::span<const double>(cdf), 0.1);
+    EXPECT_EQ(first.index, 0u);
+    EXPECT_NEAR(first.remainder, 0.4, 1e-12);
+    const CdfEntry last = invertCdf(std::span<const double>(cdf), 0.5);
+    EXPECT_EQ(last.index, 2u);
+    EXPECT_NEAR(last.remainder, 1.0 / 3.0, 1e-12);
+    EXPECT_EQ(invertCdf(std::span<const double>(cdf), 0.25).index, 2u);
+    // No weight at all: a uniform cdf, so that a caller that gives it no probability still
+    // draws valid entries.
+    const std::vector<float> none(4, 0.0f);
+    std::vector<float> uniform(5);
+    EXPECT_EQ(fillCdf(std::span<const float>(none), uniform), 0.0);
+    EXPECT_EQ(uniform, (std::vector<float>{0.0f, 0.25f, 0.5f, 0.75f, 1.0f}));
+    EXPECT_EQ(invertCdf(std::span<const float>(uniform), 0.99).index, 3u);
+}
+
 }  // namespace
 }  // namespace penumbra
