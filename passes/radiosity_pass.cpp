@@ -228,9 +228,16 @@ RadianceEstimator RadiosityPass::makeEstimator(PassContext&) {
 
 PathRadiance RadiosityPass::Li(Ray ray, FirstHit* firstHit, PathCounters& counters) const {
     const Vec3 cameraOrigin = ray.o;
-    const std::optional<MeshedHit> seen = firstMeshedHit(*scene_, *mesh_, ray, counters.rays);
-    if (!seen)
-        return {};
+    Color escaped(0.0f);
+    const std::optional<MeshedHit> seen =
+        firstMeshedHit(*scene_, *mesh_, ray, counters.rays, &escaped);
+    if (!seen) {
+        // The environment seen directly (or through thin glass): the light path L E.
+        PathRadiance L;
+        if (scene_->environment())
+            L[PathComponent::Emission] = escaped * scene_->escaped(ray.d);
+        return L;
+    }
     const SurfaceHit& hit = seen->hit;
     if (firstHit && !firstHit->valid)
         recordFirstHit(*scene_, hit, scene_->bsdf(hit), cameraOrigin, firstHit);

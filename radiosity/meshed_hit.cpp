@@ -6,13 +6,18 @@
 namespace penumbra {
 
 std::optional<MeshedHit> firstMeshedHit(const Scene& scene, const RadiosityMesh& mesh, Ray ray,
-                                        uint64_t& rays) {
+                                        uint64_t& rays, Color* escaped) {
     Color transmittance(1.0f);
+    if (escaped)
+        *escaped = Color(0.0f);
     for (int layer = 0; layer <= Scene::kMaxTransparentLayers; ++layer) {
         ++rays;
         const std::optional<SurfaceHit> hit = scene.intersect(ray);
-        if (!hit)
+        if (!hit) {
+            if (escaped)
+                *escaped = transmittance;
             return std::nullopt;
+        }
         if (mesh.locate(hit->mesh, hit->triangle, hit->barycentric).element >= 0)
             return MeshedHit{*hit, hit->frontFace(ray.d), transmittance};
         transmittance *= scene.straightTransmittance(*hit, scene.bsdf(*hit), -ray.d);

@@ -25,8 +25,10 @@ struct MeshedHit {
 
 // Nothing when the ray leaves the scene, meets a surface the mesh does not hold and that lets no
 // light straight through (solid glass: opaque and black to the solution), or passes more layers
-// than Scene::transmittance() does. Adds the rays it traces to `rays`.
+// than Scene::transmittance() does. When the ray leaves the scene and `escaped` is given, it
+// receives the transmittance of the layers passed (what the environment is seen through; zero
+// otherwise). Adds the rays it traces to `rays`.
 std::optional<MeshedHit> firstMeshedHit(const Scene& scene, const RadiosityMesh& mesh, Ray ray,
-                                        uint64_t& rays);
+                                        uint64_t& rays, Color* escaped = nullptr);
 
 }  // namespace penumbra

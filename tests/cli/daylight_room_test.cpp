@@ -1,0 +1,104 @@
+// A daylit room: a closed room lit through a window in its south wall by the CIE overcast sky, and
+// by a clear sky with the sun, whose patch lands on the floor. The hybrid and the radiosity view
+// against the path tracer on the image's quadrants: the sky and the sun reach the solution's
+// elements through the opening as direct light, and the window shows the sky in every pipeline.
+#include "core/image.h"
+#include "tests/support/cli_runner.h"
+#include "tests/support/gltf_builder.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+
+namespace penumbra::test {
+namespace {
+
+// A room of 4 x 3 x 4 m (x in [-2, 2], y in [0, 3], z in [-2, 2]), every face turned inwards,
+// with a window of 2 x 1.5 m in its south wall (z = 2; south is +Z when north is -Z), its sill at
+// 0.75 m. A camera in the north-west corner looks at the south-east.
+GltfBuilder daylitRoom() {
+    GltfBuilder scene;
+    const int wall = scene.addMaterial({.baseColor = Color(0.6f)});
+    const int floor = scene.addMaterial({.baseColor = Color(0.3f, 0.25f, 0.2f)});
+    scene.addQuad({-2, 0, -2}, {-2, 0, 2}, {2, 0, 2}, {2, 0, -2}, floor);   // y = 0, up
+    scene.addQuad({-2, 3, -2}, {2, 3, -2}, {2, 3, 2}, {-2, 3, 2}, wall);    // y = 3, down
+    scene.addQuad({-2, 0, -2}, {2, 0, -2}, {2, 3, -2}, {-2, 3, -2}, wall);  // z = -2, +z
+    scene.addQuad({-2, 0, 2}, {-2, 0, -2}, {-2, 3, -2}, {-2, 3, 2}, wall);  // x = -2, +x
+    scene.addQuad({2, 0, -2}, {2, 0, 2}, {2, 3, 2}, {2, 3, -2}, wall);      // x = 2, -x
+    // The south wall, z = 2, facing -z, around the window x in [-1, 1], y in [0.75, 2.25].
+    scene.addQuad({2, 0, 2}, {-2, 0, 2}, {-2, 0.75f, 2}, {2, 0.75f, 2}, wall);
+    scene.addQuad({2, 2.25f, 2}, {-2, 2.25f, 2}, {-2, 3, 2}, {2, 3, 2}, wall);
+    scene.addQuad({2, 0.75f, 2}, {1, 0.75f, 2}, {1, 2.25f, 2}, {2, 2.25f, 2}, wall);
+    scene.addQuad({-1, 0.75f, 2}, {-2, 0.75f, 2}, {-2, 2.25f, 2}, {-1, 2.25f, 2}, wall);
+    // From (-1.8, 2.6, -1.8) towards the south-east floor: yaw -135 degrees about +Y, then 30
+    // degrees down.
+    const float yaw = glm::radians(-135.0f) / 2.0f, pitch = glm::radians(-30.0f) / 2.0f;
+    // The product of the two quaternions, (x, y, z, w), written out.
+    const float cy = std::cos(yaw), sy = std::sin(yaw), cp = std::cos(pitch), sp = std::sin(pitch);
+    scene.setPerspectiveCamera({-1.8f, 2.6f, -1.8f}, Vec4(cy * sp, cp * sy, -sy * sp, cy * cp),
+                               1.2f);
+    return scene;
+}
+
+// The luminance means of the image's four quadrants.
+std::array<double, 4> quadrants(const Image& image) {
+    const int w = image.width(), h = image.height();
+    std::array<double, 4> means{};
+    for (int k = 0; k < 4; ++k) {
+        const int x0 = (k % 2) * w / 2, y0 = (k / 2) * h / 2;
+        for (int c = 0; c < 3; ++c) {
+            const double weight = c == 0 ? 0.2126 : c == 1 ? 0.7152 : 0.0722;
+            means[k] += weight * regionMean(image, c, x0, y0, x0 + w / 2, y0 + h / 2);
+        }
+    }
+    return means;
+}
+
+void compare(const std::string& light, const char* name) {
+    TempDir dir(std::string("daylit-room-") + name);
+    daylitRoom().write(dir.file("room.gltf"));
+    const auto render = [&](const std::string& pipeline, int spp) {
+        return quadrants(renderImage(dir.file("room.gltf"), dir.file(pipeline + ".exr"),
+                                     "--quiet --width 48 --height 32 --pipeline " + pipeline +
+                                         " --spp " + std::to_string(spp) + " " + light));
+    };
+    const std::array<double, 4> reference = render("reference", 1024);
+    const struct {
+        const char* pipeline;
+        int spp;
+        double tolerance;
+    } cases[] = {
+        // The hybrid is unbiased: the issue's 2 % on the room's region means.
+        {"hybrid", 256, 0.02},
+        // The radiosity view is not there yet (the issue stays open): the sky reaches a wall
+        // through the window by the few of its corners' 64 + 64 fixed directions that pass the
+        // opening, the same at every corner, so the walls show broad bands; measured 0.90-1.04
+        // of the reference under the overcast sky and 0.956-1.02 with the sun. 12 % guards that
+        // from getting worse.
+        {"radiosity", 16, 0.12},
+    };
+    for (const auto& c : cases) {
+        const std::array<double, 4> test = render(c.pipeline, c.spp);
+        for (int k = 0; k < 4; ++k) {
+            std::printf("[ measured ] %s %s quadrant %d: %.4f / %.4f = %.4f\n", name, c.pipeline, k,
+                        test[k], reference[k], test[k] / reference[k]);
+            EXPECT_NEAR(test[k], reference[k], c.tolerance * reference[k])
+                << c.pipeline << " " << k;
+        }
+    }
+}
+
+TEST(DaylitRoom, OvercastSkyThroughAWindow) {
+    compare("--sky cie-overcast --sky-illuminance 10000", "overcast");
+}
+
+TEST(DaylitRoom, ClearSkyAndTheSunThroughAWindow) {
+    compare(
+        "--sky cie-clear --sky-illuminance 15000 --sun-direct-normal 60000 "
+        "--site 39.742476,-105.1786 --time 2003-10-17T12:30:30-07:00",
+        "sun");
+}
+
+}  // namespace
+}  // namespace penumbra::test
