@@ -3,15 +3,20 @@
 #include "cli/calculation_points.h"
 #include "cli/commands.h"
 #include "cli/scene_input.h"
+#include "core/camera.h"
 #include "core/errors.h"
 #include "core/progress.h"
+#include "core/scene_contents.h"
 #include "core/stats.h"
-#include "raytrace/path_tracer.h"
+#include "passes/pipeline.h"
+#include "passes/planner.h"
+#include "passes/sampling_pass.h"
 #include "raytrace/sensor_irradiance.h"
 
 #include <tbb/global_control.h>
 #include <tbb/info.h>
 
+#include <algorithm>
 #include <chrono>
 #include <iostream>
 
@@ -29,6 +34,60 @@ struct IlluminanceOptions {
     int threads = 0;
 };
 
+// A pipeline run for its image-forming pass's estimator rather than for an image: it runs on an
+// image of one pixel and one sample, so that the products the estimator reads (a radiosity
+// solution, a caustic map) exist, and keeps alive everything the estimator refers to.
+class PreparedPipeline {
+  public:
+    PreparedPipeline(const std::string& name, const Scene& scene, const IlluminanceSettings& s,
+                     bool quiet)
+        : pipeline_(makePipelinePreset(name, RenderSettings{})),
+          contents_(analyseScene(scene)),
+          camera_(chooseCamera(scene.description().cameras, "", scene.bounds()), 1, 1) {
+        settings_.width = settings_.height = 1;
+        settings_.spp = 1;
+        settings_.seed = s.seed;
+        settings_.quiet = quiet;
+        const PipelinePlan plan = planForScene(pipeline_, contents_);
+        for (const std::string& warning : plan.warnings)
+            std::cerr << "penumbra: warning: " << warning << "\n";
+        context_ = std::make_unique<PassContext>(scene, contents_, camera_, settings_);
+        pipeline_.run(*context_);
+        for (size_t i = 0; i < pipeline_.passes().size(); ++i) {
+            if (pipeline_.skipped(i))
+                continue;
+            if (const auto* pass = dynamic_cast<const SamplingPass*>(pipeline_.passes()[i].get())) {
+                estimator_ = &pass->estimator();
+                passType_ = pass->type();
+            }
+        }
+        if (!estimator_)
+            throw UsageError("--pipeline " + name + ": no pass of it forms an image to measure by");
+        // What the other image-forming passes add to the image (the caustic pass's caustics) is
+        // not in the points: say so.
+        if (!quiet) {
+            for (const std::string& layer : context_->contributions) {
+                if (layer != passType_) {
+                    std::cerr << "penumbra: warning: the points count the " << passType_
+                              << " pass's light; what the " << layer
+                              << " pass adds to images is left out\n";
+                }
+            }
+        }
+    }
+
+    const RadianceEstimator& estimator() const { return *estimator_; }
+
+  private:
+    Pipeline pipeline_;
+    const SceneContents contents_;
+    const Camera camera_;
+    RenderSettings settings_;
+    std::unique_ptr<PassContext> context_;
+    const RadianceEstimator* estimator_ = nullptr;
+    std::string passType_;
+};
+
 void measure(IlluminanceOptions& options) {
     IlluminanceSettings& settings = options.settings;
     const std::optional<PassScript> script = readPassScript(options.scene);
@@ -37,11 +96,6 @@ void measure(IlluminanceOptions& options) {
             settings.samples = *script->spp;
         if (options.command->count("--seed") == 0 && script->seed)
             settings.seed = *script->seed;
-    }
-    if (options.pipeline != "reference") {
-        throw UsageError("--pipeline " + options.pipeline +
-                         ": `illuminance` computes its points with the reference path tracer "
-                         "only; give --pipeline reference or leave it out");
     }
     if (settings.samples < 2)
         throw UsageError("--spp: at least 2 (a standard error needs two samples)");
@@ -52,7 +106,11 @@ void measure(IlluminanceOptions& options) {
     const std::unique_ptr<Scene> scene = loadScene(options.scene);
     const int threads = options.threads > 0 ? options.threads : tbb::info::default_concurrency();
     tbb::global_control parallelism(tbb::global_control::max_allowed_parallelism, threads);
-    const PathTracer tracer(*scene, PathTracerSettings{});
+    const PreparedPipeline pipeline(options.pipeline, *scene, settings, options.scene.quiet);
+    // The solve counts against the time limit; the samples get what is left (at least a round).
+    if (settings.timeLimit > 0.0)
+        settings.timeLimit = std::max(settings.timeLimit - secondsSince(start), 1e-9);
+
     // The points are in the file's world frame; the scene is stored relative to its origin
     // (core/scene_description.h).
     const glm::dvec3 origin = scene->description().origin;
@@ -67,7 +125,7 @@ void measure(IlluminanceOptions& options) {
     {
         Progress progress("illuminance", uint64_t(sensors.size()) * uint64_t(settings.samples),
                           options.scene.quiet);
-        readings = measureIlluminance(*scene, tracer, sensors, settings, &progress);
+        readings = measureIlluminance(*scene, pipeline.estimator(), sensors, settings, &progress);
         progress.finish();
     }
 
@@ -86,7 +144,8 @@ void measure(IlluminanceOptions& options) {
     }
     if (!options.scene.quiet) {
         std::cerr << "penumbra: wrote " << options.output << ": " << points.size() << " points, "
-                  << samples << " samples each, " << secondsSince(start) << " s\n";
+                  << samples << " samples each, pipeline " << options.pipeline << ", "
+                  << secondsSince(start) << " s\n";
     }
 }
 

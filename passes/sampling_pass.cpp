@@ -27,9 +27,9 @@ void publishRenderedImage(PassContext& context, const ImageRenderer& renderer,
 
 void SamplingPass::prepare(PassContext& context) {
     // The estimator first: it may find that there is nothing to correct (correctionSigma()).
-    RadianceEstimator estimator = makeEstimator(context);
-    renderer_ = std::make_unique<ImageRenderer>(context.camera, context.settings,
-                                                std::move(estimator), correctionSigma());
+    estimator_ = makeEstimator(context);
+    renderer_ = std::make_unique<ImageRenderer>(context.camera, context.settings, estimator_,
+                                                correctionSigma());
     start_ = std::chrono::steady_clock::now();
     // With a time limit the bar measures the time left (in milliseconds), else samples.
     timed_ = context.deadline && usesTimeLimit();

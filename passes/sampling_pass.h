@@ -27,6 +27,11 @@ class SamplingPass : public Pass {
     // parameters(), then samplingFigures().
     PassStats stats() const override;
 
+    // The estimator the pass forms its image with, once prepared: what else measures the scene
+    // as this pass sees it (the sensors of `penumbra illuminance`) uses the same one. It refers
+    // to the pass and to the pipeline's products, so it is valid while they live.
+    const RadianceEstimator& estimator() const { return estimator_; }
+
   protected:
     // spp, mean_spp, seconds, rays, rays_per_second, dropped_samples.
     PassStats samplingFigures() const;
@@ -45,6 +50,7 @@ class SamplingPass : public Pass {
     virtual float correctionSigma() const { return 0.0f; }
 
   private:
+    RadianceEstimator estimator_;
     std::unique_ptr<ImageRenderer> renderer_;
     std::unique_ptr<Progress> progress_;
     void publish(PassContext& context);

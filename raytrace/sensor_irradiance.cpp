@@ -44,15 +44,15 @@ Bsdf whiteLambertian(const Vec3& n) {
 
 }  // namespace
 
-Color sampleSensorIrradiance(const Scene& scene, const PathTracer& tracer, const Sensor& sensor,
-                             Sampler& sampler, PathCounters& counters) {
+Color sampleSensorIrradiance(const Scene& scene, const RadianceEstimator& incoming,
+                             const Sensor& sensor, Sampler& sampler, PathCounters& counters) {
     const SurfaceHit hit = sensorSurface(sensor);
     const Bsdf bsdf = whiteLambertian(sensor.n);
     const Color direct = estimateDirectLight(scene, hit, bsdf, sensor.n, sampler, counters);
 
     // Cosine-weighted: L cos / pdf = pi L.
     const Vec3 wi = Frame::fromNormal(sensor.n).toWorld(sampleCosineHemisphere(sampler.get2D()));
-    const PathRadiance arriving = tracer.Li(Scene::spawnRay(hit, wi), sampler, nullptr, counters);
+    const PathRadiance arriving = incoming(Scene::spawnRay(hit, wi), sampler, nullptr, counters);
     const Color scattered = arriving.total() - arriving[PathComponent::Emission];
     return kPi * (direct + scattered);
 }
@@ -71,14 +71,14 @@ struct SampleSums {
     int dropped = 0;
 };
 
-void takeSamples(const Scene& scene, const PathTracer& tracer, const Sensor& sensor, int index,
-                 uint32_t seed, int first, int count, SampleSums& sums) {
+void takeSamples(const Scene& scene, const RadianceEstimator& incoming, const Sensor& sensor,
+                 int index, uint32_t seed, int first, int count, SampleSums& sums) {
     Sampler sampler(seed);
     PathCounters counters;
     for (int k = first; k < first + count; ++k) {
         sampler.startPixelSample(IVec2(index, 0), uint32_t(k));
         const double lux =
-            luminance(sampleSensorIrradiance(scene, tracer, sensor, sampler, counters));
+            luminance(sampleSensorIrradiance(scene, incoming, sensor, sampler, counters));
         if (!std::isfinite(lux)) {
             ++sums.dropped;
             continue;
@@ -106,7 +106,7 @@ SensorReading reading(const SampleSums& sums) {
 
 }  // namespace
 
-std::vector<SensorReading> measureIlluminance(const Scene& scene, const PathTracer& tracer,
+std::vector<SensorReading> measureIlluminance(const Scene& scene, const RadianceEstimator& incoming,
                                               const std::vector<Sensor>& sensors,
                                               const IlluminanceSettings& settings,
                                               Progress* progress) {
@@ -124,7 +124,7 @@ std::vector<SensorReading> measureIlluminance(const Scene& scene, const PathTrac
             round = std::min(round, affordable);
         }
         tbb::parallel_for(size_t(0), sensors.size(), [&](size_t i) {
-            takeSamples(scene, tracer, sensors[i], int(i), settings.seed, taken, round, sums[i]);
+            takeSamples(scene, incoming, sensors[i], int(i), settings.seed, taken, round, sums[i]);
             if (progress)
                 progress->advance(uint64_t(round));
         });

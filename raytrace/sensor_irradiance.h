@@ -1,10 +1,10 @@
 // Illuminance at calculation points: what a lighting designer's light meter reads, estimated by
-// the same path tracer that forms images.
+// the same estimators that form images.
 #pragma once
 
 #include "core/math.h"
 #include "core/scene.h"
-#include "raytrace/path_tracer.h"
+#include "raytrace/radiance_estimator.h"
 
 #include <cstdint>
 #include <vector>
@@ -22,19 +22,20 @@ struct Sensor {
     Vec3 n{0.0f, 1.0f, 0.0f};
 };
 
-// One unbiased sample of the irradiance E = integral of L(w) cos(w, n) dw at the sensor, in lux
-// per linear-sRGB channel. The sensor is a white Lambertian surface, whose reflected radiance is
-// E / pi, so the estimator is pi times the path tracer's reflected radiance at a first vertex:
+// One sample of the irradiance E = integral of L(w) cos(w, n) dw at the sensor, in lux per
+// linear-sRGB channel. The sensor is a white Lambertian surface, whose reflected radiance is
+// E / pi, so the estimator is pi times the reflected radiance at a first vertex:
 //  - the light arriving directly (lights, emissive surfaces, the environment), by next-event
 //    estimation and a cosine-weighted direction weighted against each other by the power heuristic
 //    (estimateDirectLight, Veach 1997, Eq. 9.13);
-//  - the light arriving after one or more scatterings, by the path `tracer` traces along a second
-//    cosine-weighted direction, less what that path sees directly (its emission component, which
-//    the first term holds).
-// `tracer` decides what is counted beyond the first surface: the reference path tracer, or one
-// that reuses a radiosity solution.
-Color sampleSensorIrradiance(const Scene& scene, const PathTracer& tracer, const Sensor& sensor,
-                             Sampler& sampler, PathCounters& counters);
+//  - the light arriving after one or more scatterings, by what `incoming` estimates along a
+//    second cosine-weighted direction, less what it sees directly there (its emission component,
+//    which the first term holds).
+// `incoming` is the estimator an image-forming pass takes camera rays with (the path tracer, the
+// hybrid's reusing tracer, the radiosity view): the sensor reads the scene as that pass does, and
+// is unbiased when it is.
+Color sampleSensorIrradiance(const Scene& scene, const RadianceEstimator& incoming,
+                             const Sensor& sensor, Sampler& sampler, PathCounters& counters);
 
 }  // namespace penumbra
 
@@ -60,7 +61,7 @@ struct SensorReading {
 // until settings.samples or until the next round would end past settings.timeLimit (predicted
 // from the rounds so far; at least two samples are always taken). Sample k of sensor i is the
 // sampler's sample k of "pixel" (i, 0), so every sensor sees a stratified sequence.
-std::vector<SensorReading> measureIlluminance(const Scene& scene, const PathTracer& tracer,
+std::vector<SensorReading> measureIlluminance(const Scene& scene, const RadianceEstimator& incoming,
                                               const std::vector<Sensor>& sensors,
                                               const IlluminanceSettings& settings,
                                               Progress* progress = nullptr);

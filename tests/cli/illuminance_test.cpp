@@ -136,8 +136,10 @@ TEST(Illuminance, OvercastSkyOnAVerticalSensor) {
 
 // Inside a closed box whose walls reflect rho and emit Le towards the inside, the radiance is
 // Le / (1 - rho) everywhere and in every direction, so any sensor reads pi Le / (1 - rho): the
-// interreflected light (here half of it) is counted, once.
-TEST(Illuminance, FurnaceBoxCountsEveryBounceOnce) {
+// interreflected light (here half of it) is counted, once, by every pipeline's estimator.
+class IlluminanceFurnace : public testing::TestWithParam<const char*> {};
+
+TEST_P(IlluminanceFurnace, CountsEveryBounceOnce) {
     constexpr float kRho = 0.5f, kLe = 2.0f;
     TempDir dir("illuminance-furnace");
     GltfBuilder scene;
@@ -153,11 +155,16 @@ TEST(Illuminance, FurnaceBoxCountsEveryBounceOnce) {
     scene.addQuad(c[4], c[5], c[1], c[0], wall);
     scene.addQuad(c[3], c[2], c[6], c[7], wall);
     const std::vector<Reading> rows =
-        measure(scene, dir, "0,0,0,0,1,0\n0.5,-0.3,0.2,1,1,0\n0.9,0,0,-1,0,0\n", "--spp 2048");
+        measure(scene, dir, "0,0,0,0,1,0\n0.5,-0.3,0.2,1,1,0\n0.9,0,0,-1,0,0\n",
+                std::string("--spp 2048 --pipeline ") + GetParam());
     ASSERT_EQ(rows.size(), 3u);
     for (const Reading& r : rows)
         expectNear(r, kPi * kLe / (1.0f - kRho), 0.02);
 }
+
+INSTANTIATE_TEST_SUITE_P(Pipelines, IlluminanceFurnace,
+                         testing::Values("reference", "hybrid", "hybrid-preview", "distribution",
+                                         "radiosity"));
 
 // The sun at a published position: NREL's solar position paper (Reda and Andreas 2004) works
 // the example of Golden, Colorado, 2003-10-17 12:30:30 at UTC-7: zenith 50.11162 degrees,
@@ -299,7 +306,7 @@ TEST(Illuminance, RefusesBadInput) {
         {"x,y,z,nx,ny,nz\n", "-o " + output, "no calculation point"},
         {"0,0,0,0,1,0\n", "-o " + dir.file("out.txt"), "is a .csv file"},
         {"0,0,0,0,1,0\n", "-o " + dir.file("missing/out.csv"), "does not exist"},
-        {"0,0,0,0,1,0\n", "-o " + output + " --pipeline radiosity", "reference path tracer"},
+        {"0,0,0,0,1,0\n", "-o " + output + " --pipeline nonsense", "unknown pipeline 'nonsense'"},
         {"0,0,0,0,1,0\n", "-o " + output + " --spp 1", "less than 2"},
     };
     for (const auto& c : cases) {
