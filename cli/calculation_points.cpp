@@ -103,7 +103,8 @@ void checkPointsOutputPath(const std::string& path) {
 }
 
 void writePointIlluminance(const std::string& path, const std::vector<CalculationPoint>& points,
-                           const std::vector<PointIlluminance>& results) {
+                           const std::vector<PointIlluminance>& results,
+                           std::optional<double> skyHorizontalIlluminance) {
     const fs::path output(path);
     fs::path temporary = output;
     temporary.replace_filename(output.stem().string() + ".tmp-" + std::to_string(getpid()) +
@@ -111,11 +112,19 @@ void writePointIlluminance(const std::string& path, const std::vector<Calculatio
     {
         std::ofstream out(temporary);
         out.precision(9);
-        out << "x,y,z,nx,ny,nz,illuminance_lux,stderr_lux\n";
+        out << "x,y,z,nx,ny,nz,illuminance_lux,stderr_lux";
+        if (skyHorizontalIlluminance)
+            out << ",daylight_factor_percent,stderr_percent";
+        out << "\n";
         for (size_t i = 0; i < points.size(); ++i) {
             for (double value : points[i].given)
                 out << value << ",";
-            out << results[i].lux << "," << results[i].standardError << "\n";
+            out << results[i].lux << "," << results[i].standardError;
+            if (skyHorizontalIlluminance) {
+                const double percent = 100.0 / *skyHorizontalIlluminance;
+                out << "," << results[i].lux * percent << "," << results[i].standardError * percent;
+            }
+            out << "\n";
         }
         out.flush();
         if (!out) {

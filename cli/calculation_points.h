@@ -4,12 +4,14 @@
 // sensor's normal, any non-zero length); a first row that is not numbers is a header; blank lines
 // and lines starting with '#' are skipped.
 // Output: the header `x,y,z,nx,ny,nz,illuminance_lux,stderr_lux` and one row per input point, in
-// the input's order, with the point and normal as the input gave them.
+// the input's order, with the point and normal as the input gave them; with a daylight factor,
+// the columns `daylight_factor_percent,stderr_percent` after them.
 #pragma once
 
 #include "raytrace/sensor_irradiance.h"
 
 #include <array>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -33,8 +35,11 @@ std::vector<CalculationPoint> readCalculationPoints(const std::string& path);
 void checkPointsOutputPath(const std::string& path);
 
 // Writes the results, first to a temporary file in the same directory, renamed over `path` when
-// complete (nothing half-written is left on failure). Throws InputError when it cannot.
+// complete (nothing half-written is left on failure). Throws InputError when it cannot. With a
+// sky's unobstructed horizontal illuminance E_h (lux), two more columns follow:
+// daylight_factor_percent and its stderr_percent, 100 E / E_h.
 void writePointIlluminance(const std::string& path, const std::vector<CalculationPoint>& points,
-                           const std::vector<PointIlluminance>& results);
+                           const std::vector<PointIlluminance>& results,
+                           std::optional<double> skyHorizontalIlluminance = std::nullopt);
 
 }  // namespace penumbra::cli

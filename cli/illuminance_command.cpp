@@ -7,6 +7,7 @@
 #include "core/errors.h"
 #include "core/progress.h"
 #include "core/scene_contents.h"
+#include "core/sky.h"
 #include "core/stats.h"
 #include "passes/pipeline.h"
 #include "passes/planner.h"
@@ -32,7 +33,26 @@ struct IlluminanceOptions {
     std::string pipeline = "reference";
     IlluminanceSettings settings;
     int threads = 0;
+    bool daylightFactor = false;
 };
+
+// The sky's unobstructed horizontal illuminance for --daylight-factor: defined under an overcast
+// sky alone (CIE), whose E_h the user gave or took by default.
+double daylightFactorBase(const EnvironmentInput& input) {
+    if (!input.sky)
+        throw UsageError(
+            "--daylight-factor needs an overcast sky: --sky cie-overcast (or cie:1 "
+            "to cie:5, uniform)");
+    if (skyNeedsSun(*input.sky) || input.sunDirectNormal) {
+        throw UsageError(
+            "--daylight-factor is defined under an overcast sky without the sun: "
+            "not with --sky " +
+            *input.sky + (input.sunDirectNormal ? " and --sun-direct-normal" : ""));
+    }
+    if (input.scale)
+        throw UsageError("--daylight-factor: the sky's --environment-scale would change E_h");
+    return input.skyIlluminance.value_or(SkySettings{}.horizontalIlluminance);
+}
 
 // A pipeline run for its image-forming pass's estimator rather than for an image: it runs on an
 // image of one pixel and one sample, so that the products the estimator reads (a radiosity
@@ -99,6 +119,15 @@ void measure(IlluminanceOptions& options) {
     }
     if (settings.samples < 2)
         throw UsageError("--spp: at least 2 (a standard error needs two samples)");
+    std::optional<double> skyHorizontalIlluminance;
+    if (options.daylightFactor) {
+        try {
+            skyHorizontalIlluminance = daylightFactorBase(options.scene.environment);
+        } catch (const std::invalid_argument& e) {
+            const std::string message = e.what();
+            throw UsageError("--sky: " + message);
+        }
+    }
     checkPointsOutputPath(options.output);
     const std::vector<CalculationPoint> points = readCalculationPoints(options.points);
 
@@ -137,7 +166,7 @@ void measure(IlluminanceOptions& options) {
         samples = std::min(samples, r.samples);
         dropped += r.dropped;
     }
-    writePointIlluminance(options.output, points, results);
+    writePointIlluminance(options.output, points, results, skyHorizontalIlluminance);
     if (dropped > 0) {
         std::cerr << "penumbra: warning: " << dropped
                   << " non-finite samples dropped (a bug: please report it)\n";
@@ -186,6 +215,9 @@ Command addIlluminanceCommand(CLI::App& app) {
                      "Stop after about this many seconds, at a whole round of samples (every "
                      "point gets the same number)")
         ->check(CLI::NonNegativeNumber);
+    command->add_flag("--daylight-factor", options->daylightFactor,
+                      "Also write each point's daylight factor, 100 E / E_h in percent, E_h the "
+                      "overcast sky's unobstructed horizontal illuminance (--sky-illuminance)");
     return [options] { measure(*options); };
 }
 

@@ -251,6 +251,79 @@ TEST(Illuminance, ClearSkiesBrightenTowardsTheSun) {
     }
 }
 
+// The daylight factor under a roof light: a black room (4 x 4 m, 3 m high) with a 1 x 1 m opening
+// in its roof over the sensor, under the CIE overcast sky L = L_z (1 + 2 cos Z) / 3. The sensor
+// reads E = integral over the opening of L(Z) cos Z cos Z / r² dA = integral of L(Z) h² / r⁴ dA
+// (midpoint quadrature here, 400 x 400 cells: smooth integrand, far below the tolerance), and
+// the daylight factor is 100 E / E_h with E_h = 7 pi L_z / 9.
+TEST(Illuminance, DaylightFactorUnderARoofLight) {
+    constexpr double kHeight = 3.0, kHalf = 0.5;
+    TempDir dir("illuminance-daylight-factor");
+    GltfBuilder scene;
+    const int black = scene.addMaterial({.baseColor = Color(0.0f)});
+    const float h = float(kHeight), a = float(kHalf);
+    scene.addQuad({-2, 0, -2}, {-2, 0, 2}, {2, 0, 2}, {2, 0, -2}, black);  // floor, up
+    scene.addQuad({-2, 0, -2}, {2, 0, -2}, {2, h, -2}, {-2, h, -2}, black);
+    scene.addQuad({-2, 0, 2}, {-2, 0, -2}, {-2, h, -2}, {-2, h, 2}, black);
+    scene.addQuad({2, 0, -2}, {2, 0, 2}, {2, h, 2}, {2, h, -2}, black);
+    scene.addQuad({2, 0, 2}, {-2, 0, 2}, {-2, h, 2}, {2, h, 2}, black);
+    // The roof around the opening |x|, |z| < a, facing down.
+    scene.addQuad({-2, h, -2}, {2, h, -2}, {2, h, -a}, {-2, h, -a}, black);
+    scene.addQuad({-2, h, a}, {2, h, a}, {2, h, 2}, {-2, h, 2}, black);
+    scene.addQuad({-2, h, -a}, {-a, h, -a}, {-a, h, a}, {-2, h, a}, black);
+    scene.addQuad({a, h, -a}, {2, h, -a}, {2, h, a}, {a, h, a}, black);
+    scene.write(dir.file("scene.gltf"));
+    writeText(dir.file("points.csv"), "0,0,0,0,1,0\n");
+    const CliResult result = runPenumbra(
+        "illuminance " + dir.file("scene.gltf") + " --points " + dir.file("points.csv") + " -o " +
+        dir.file("out.csv") + " --quiet --sky cie-overcast --sky-illuminance 10000 --spp 32768 " +
+        "--daylight-factor");
+    ASSERT_EQ(result.status, 0) << result.output;
+    std::ifstream in(dir.file("out.csv"));
+    std::string header, row;
+    std::getline(in, header);
+    std::getline(in, row);
+    EXPECT_EQ(header,
+              "x,y,z,nx,ny,nz,illuminance_lux,stderr_lux,daylight_factor_percent,"
+              "stderr_percent");
+    std::vector<double> values;
+    std::stringstream fields(row);
+    for (std::string field; std::getline(fields, field, ',');)
+        values.push_back(std::stod(field));
+    ASSERT_EQ(values.size(), 10u);
+
+    constexpr int kCells = 400;
+    const double zenith = 10000.0 / (7.0 * M_PI / 9.0), cell = 2.0 * kHalf / kCells;
+    double E = 0.0;
+    for (int i = 0; i < kCells; ++i)
+        for (int j = 0; j < kCells; ++j) {
+            const double x = -kHalf + (i + 0.5) * cell, z = -kHalf + (j + 0.5) * cell;
+            const double r = std::sqrt(x * x + z * z + kHeight * kHeight);
+            const double L = zenith * (1.0 + 2.0 * kHeight / r) / 3.0;
+            E += L * kHeight * kHeight / (r * r * r * r) * cell * cell;
+        }
+    const double df = 100.0 * E / 10000.0;
+    std::printf("[ measured ] E = %.3f +- %.3f lux (quadrature %.3f), DF = %.4f %% (%.4f %%)\n",
+                values[6], values[7], E, values[8], df);
+    EXPECT_NEAR(values[6], E, 4.0 * values[7] + 1e-3 * E);
+    // The sky's light samples cover the whole vault, and the opening is 2 % of it: 6.8 % of
+    // standard error at 4096 samples, 2.4 % expected at 32 768 (portals would take them
+    // through the opening).
+    EXPECT_LT(values[7], 0.03 * E);
+    EXPECT_NEAR(values[8], 100.0 * values[6] / 10000.0, 1e-6 * df);
+    EXPECT_NEAR(values[9], 100.0 * values[7] / 10000.0, 1e-6 * df);
+
+    // Only under an overcast sky without the sun.
+    const CliResult clear =
+        runPenumbra("illuminance " + dir.file("scene.gltf") + " --points " +
+                    dir.file("points.csv") + " -o " + dir.file("clear.csv") +
+                    " --sky cie-clear --site 0,0 --time 2026-03-21T12:00Z " + "--daylight-factor");
+    EXPECT_EQ(clear.status, 2);
+    EXPECT_NE(clear.output.find("--daylight-factor is defined under an overcast sky"),
+              std::string::npos)
+        << clear.output;
+}
+
 // A sensor lying on a surface reads the light from the side its normal faces: on a white floor
 // under a uniform sky, E_h facing up (the floor it lies on adds nothing and hides nothing), and
 // on the floor's underside facing down, the ground's R E_h.
