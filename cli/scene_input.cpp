@@ -7,6 +7,8 @@
 #include "core/sky.h"
 #include "core/solar_position.h"
 
+#include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <iostream>
 #include <sstream>
@@ -60,6 +62,12 @@ void addSceneInputOptions(CLI::App& command, SceneInput& input, PassScripts scri
                     "The sun's direct normal illuminance, lux: adds the sun's disc (0.53 "
                     "degrees) at the position --site and --time give")
         ->check(CLI::NonNegativeNumber);
+    command
+        .add_option("--portal", input.environment.portals,
+                    "A window the environment is seen through, sampled to light what is behind "
+                    "it: X0,Y0,Z0,X1,Y1,Z1,X2,Y2,Z2, a corner and its two neighbours (metres, "
+                    "the file's world frame); repeat for several")
+        ->take_all();
 }
 
 std::optional<PassScript> readPassScript(SceneInput& input) {
@@ -193,6 +201,34 @@ std::optional<SunDisc> makeSun(const EnvironmentInput& input,
     return sun;
 }
 
+// A portal from nine numbers, a corner and its two neighbours in the file's frame, rebased as the
+// scene is.
+Portal parsePortal(const std::string& text, const glm::dvec3& origin) {
+    std::vector<double> values;
+    std::stringstream fields(text);
+    for (std::string field; std::getline(fields, field, ',');) {
+        char* end = nullptr;
+        const double value = std::strtod(field.c_str(), &end);
+        if (field.empty() || *end != '\0' || !std::isfinite(value)) {
+            values.clear();
+            break;
+        }
+        values.push_back(value);
+    }
+    if (values.size() != 9) {
+        throw UsageError("--portal \"" + text +
+                         "\": expected nine numbers X0,Y0,Z0,X1,Y1,Z1,X2,Y2,Z2 (a corner and "
+                         "its two neighbours, metres)");
+    }
+    const auto point = [&](int i) {
+        return glm::dvec3(values[3 * i], values[3 * i + 1], values[3 * i + 2]) - origin;
+    };
+    Portal portal{Vec3(point(0)), Vec3(point(1) - point(0)), Vec3(point(2) - point(0))};
+    if (!(portal.area() > 0.0f))
+        throw UsageError("--portal \"" + text + "\": its corners span no area");
+    return portal;
+}
+
 void applyEnvironment(const EnvironmentInput& input, SceneDescription& description) {
     const float scale = input.scale.value_or(1.0f);
     const Mat3 turn = environmentRotation(input.rotationDegrees.value_or(0.0f));
@@ -239,6 +275,15 @@ void applyEnvironment(const EnvironmentInput& input, SceneDescription& descripti
     if (sun) {
         description.environment->sun = sun;
         description.environment->file += ", " + place->description;
+    }
+    if (!input.portals.empty()) {
+        if (!description.environment) {
+            throw UsageError(
+                "--portal: the scene has no environment to see through it; give "
+                "--sky, --environment or --sun-direct-normal");
+        }
+        for (const std::string& text : input.portals)
+            description.environment->portals.push_back(parsePortal(text, description.origin));
     }
 }
 

@@ -9,6 +9,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace penumbra::cli {
 
@@ -29,6 +30,9 @@ struct EnvironmentInput {
     std::optional<std::string> time;       // ISO 8601 with the UTC offset
     std::optional<float> northDegrees;     // true north from -Z, counter-clockwise seen from above
     std::optional<float> sunDirectNormal;  // E_n, lux, >= 0
+    // Portals (--portal): parallelograms "X0,Y0,Z0,X1,Y1,Z1,X2,Y2,Z2" in the file's world frame,
+    // a corner and its two neighbours.
+    std::vector<std::string> portals;
 };
 
 struct SceneInput {

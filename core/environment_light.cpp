@@ -57,7 +57,7 @@ float sampleContinuous(std::span<const float> cdf, float u, int& index) {
 
 EnvironmentLight::EnvironmentLight(const Image& radiance, const Mat3& worldToLocal, float scale,
                                    const Vec3& sceneCenter, float sceneRadius, std::string name,
-                                   const std::optional<SunDisc>& sun)
+                                   const std::optional<SunDisc>& sun, PortalSet portals)
     : width_(radiance.width()),
       height_(radiance.height()),
       worldToLocal_(worldToLocal),
@@ -139,6 +139,9 @@ EnvironmentLight::EnvironmentLight(const Image& radiance, const Mat3& worldToLoc
         const float map = luminance(integral_);
         sunProbability_ = sun->directNormalIlluminance / (sun->directNormalIlluminance + map);
     }
+    portals_ = std::move(portals);
+    if (!portals_.empty())
+        portalProbability_ = kPortalShare * (1.0f - sunProbability_);
 }
 
 bool EnvironmentLight::inSun(const Vec3& towards) const {
@@ -164,9 +167,11 @@ Color EnvironmentLight::radiance(const Vec3& towards) const {
 
 // pbrt-v3's InfiniteAreaLight::Pdf_Li (section 14.2.4): the density p(u, v) of the image
 // coordinates over the Jacobian of the map, d omega = 2 pi² sin(theta) du dv.
-float EnvironmentLight::pdfDirection(const Vec3& towards) const {
+float EnvironmentLight::pdfDirection(const Vec3& from, const Vec3& towards) const {
     const float sun = inSun(towards) ? sunProbability_ / sun_->solidAngle() : 0.0f;
-    return (1.0f - sunProbability_) * mapPdf(towards) + sun;
+    const float portals = portalProbability_ > 0.0f ? portals_.pdf(from, towards) : 0.0f;
+    return (1.0f - sunProbability_ - portalProbability_) * mapPdf(towards) + sun +
+           portalProbability_ * portals;
 }
 
 float EnvironmentLight::mapPdf(const Vec3& towards) const {
@@ -183,17 +188,26 @@ float EnvironmentLight::mapPdf(const Vec3& towards) const {
 
 std::optional<LightLiSample> EnvironmentLight::sampleLi(const LightSampleContext& ctx,
                                                         Vec2 u) const {
-    // The sun with its probability, u.x rescaled to [0, 1) for the part chosen.
+    // The sun, the portals and the map with their probabilities, u.x rescaled to [0, 1) for the
+    // part chosen.
     Vec3 wi;
+    const float mapProbability = 1.0f - sunProbability_ - portalProbability_;
     if (u.x < sunProbability_) {
         wi = sun_->sample(Vec2(u.x / sunProbability_, u.y));
+    } else if (u.x < sunProbability_ + portalProbability_) {
+        const std::optional<Vec3> through =
+            portals_.sample(ctx.p, Vec2((u.x - sunProbability_) / portalProbability_, u.y));
+        if (!through)
+            return std::nullopt;
+        wi = *through;
     } else {
-        wi = sampleMap(Vec2((u.x - sunProbability_) / (1.0f - sunProbability_), u.y));
+        const float uMap = (u.x - sunProbability_ - portalProbability_) / mapProbability;
+        wi = sampleMap(Vec2(std::min(uMap, 1.0f), u.y));
     }
 
     // The density is looked up again from wi, so that it is exactly what MIS gets from
     // pdfDirection() for the same direction.
-    const float pdf = pdfDirection(wi);
+    const float pdf = pdfDirection(ctx.p, wi);
     const Color L = radiance(wi);
     if (!(pdf > 0.0f) || maxComponent(L) <= 0.0f)
         return std::nullopt;
@@ -211,8 +225,9 @@ Vec3 EnvironmentLight::sampleMap(Vec2 u) const {
     return glm::transpose(worldToLocal_) * uvToDirection(Vec2(uColumn, v));
 }
 
-// pbrt-v4's ImageInfiniteLight::SampleLe: the direction from the distribution, the origin uniform
-// on the disc of the bounding radius facing it, one radius behind the scene's centre.
+// pbrt-v4's ImageInfiniteLight::SampleLe: the direction from the distribution (as seen from the
+// scene's centre, for the portals), the origin uniform on the disc of the bounding radius facing
+// it, one radius behind the scene's centre.
 std::optional<LightLeSample> EnvironmentLight::sampleLe(Vec2 uPosition, Vec2 uDirection) const {
     const std::optional<LightLiSample> li = sampleLi(LightSampleContext{sceneCenter_}, uDirection);
     if (!li)

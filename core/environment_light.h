@@ -20,6 +20,7 @@
 #include "core/image.h"
 #include "core/light.h"
 #include "core/math.h"
+#include "core/portals.h"
 #include "core/sampling.h"
 #include "core/sun_disc.h"
 
@@ -42,9 +43,18 @@ class EnvironmentLight : public Light {
     // and sampling draws it with the probability of its share of the light's luminous power,
     // a uniform direction in its cone (a one-sample mixture of the two densities, which
     // pdfDirection() returns, so MIS weighs both parts).
+    //
+    // `portals`, when not empty, take kPortalShare of the samples the sun leaves (core/portals.h):
+    // the density then depends on the receiving point, which pdfDirection() takes.
     EnvironmentLight(const Image& radiance, const Mat3& worldToLocal, float scale,
                      const Vec3& sceneCenter, float sceneRadius, std::string name,
-                     const std::optional<SunDisc>& sun = std::nullopt);
+                     const std::optional<SunDisc>& sun = std::nullopt,
+                     PortalSet portals = PortalSet());
+
+    // The share of the non-sun samples that go through the portals, when there are any; the rest
+    // follow the map, so that points the portals do not serve (outside, or by an opening without
+    // a portal) still find the sky.
+    static constexpr float kPortalShare = 0.75f;
 
     LightKind kind() const override { return LightKind::Environment; }
     bool isDelta() const override { return false; }
@@ -54,8 +64,9 @@ class EnvironmentLight : public Light {
     // centres, wrapping around in u and clamped in v, times the scale, plus the sun's radiance
     // inside its disc.
     Color radiance(const Vec3& towards) const;
-    // Solid-angle density (1/sr) with which sampleLi() draws unit world direction `towards`.
-    float pdfDirection(const Vec3& towards) const;
+    // Solid-angle density (1/sr) with which sampleLi() from point `from` draws unit world
+    // direction `towards`.
+    float pdfDirection(const Vec3& from, const Vec3& towards) const;
 
     // A direction drawn from the distribution; pLight a point beyond the scene's bounding sphere
     // along it (as DirectionalLight's), nLight zero; L = radiance(wi).
@@ -67,7 +78,7 @@ class EnvironmentLight : public Light {
     // A photon: its direction w = -wi with wi drawn from the distribution (uDirection), its
     // origin uniform on the disc of the scene's bounding radius perpendicular to w, one radius
     // behind the sphere's centre (pbrt-v4's ImageInfiniteLight::SampleLe). pdfPos = 1 / (pi R²),
-    // pdfDir = pdfDirection(-w), L = radiance(-w), n zero: flux() is L / (pdfPos pdfDir).
+    // pdfDir = pdfDirection(centre, -w), L = radiance(-w), n zero: flux() is L / (pdfPos pdfDir).
     std::optional<LightLeSample> sampleLe(Vec2 uPosition, Vec2 uDirection) const override;
     // radiance(-w).
     Color emittedLe(const LightLeSample& origin, const Vec3& w) const override;
@@ -94,6 +105,8 @@ class EnvironmentLight : public Light {
     // The sun's disc and the probability with which sampling draws it.
     std::optional<SunDisc> sun_;
     float sunProbability_ = 0.0f;
+    PortalSet portals_;
+    float portalProbability_ = 0.0f;
 
     // The map's own density and sample, before the mixture with the sun.
     float mapPdf(const Vec3& towards) const;

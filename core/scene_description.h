@@ -7,6 +7,7 @@
 #include "core/material.h"
 #include "core/math.h"
 #include "core/photometry.h"
+#include "core/portals.h"
 #include "core/sun_disc.h"
 #include "core/texture.h"
 
@@ -74,11 +75,12 @@ struct CameraDesc {
 // An environment light's source (core/environment_light.h): an equirectangular image of the
 // radiance arriving from every direction, read and checked (every value finite and >= 0).
 struct EnvironmentDesc {
-    std::string file;            // as given, for messages
-    Image radiance;              // times `scale`: cd/m² per linear-sRGB channel
-    float scale = 1.0f;          // > 0
-    Mat3 worldToLocal{1.0f};     // rotation from world directions into the map's frame
-    std::optional<SunDisc> sun;  // the sun's disc, in world directions (not turned by the map's)
+    std::string file;             // as given, for messages
+    Image radiance;               // times `scale`: cd/m² per linear-sRGB channel
+    float scale = 1.0f;           // > 0
+    Mat3 worldToLocal{1.0f};      // rotation from world directions into the map's frame
+    std::optional<SunDisc> sun;   // the sun's disc, in world directions (not turned by the map's)
+    std::vector<Portal> portals;  // the openings it is seen through (core/portals.h), rebased
 };
 
 // What the loader noticed, for `penumbra info` and warnings.

@@ -29,7 +29,8 @@ Color environmentD(const Scene& scene, const ElementSample& x, const Vec3& n, ui
         const Color L = environment->radiance(wi);
         if (!(cosTheta > 0.0f) || !(maxComponent(L) > 0.0f))
             return Color(0.0f);
-        const float density = n1 * (environment->pdfDirection(wi) + cosineHemispherePdf(cosTheta));
+        const float density =
+            n1 * (environment->pdfDirection(x.p, wi) + cosineHemispherePdf(cosTheta));
         ++rays;
         const Color T =
             scene.transmittance(x.p, x.pError, n, x.p + wi * reach, Vec3(0.0f), Vec3(0.0f));

@@ -78,12 +78,12 @@ float emissionMisWeight(const Scene& scene, const LightSampleContext& ctx, const
     return powerHeuristic(bsdfPdf, lightPdf);
 }
 
-float escapedMisWeight(const Scene& scene, const Vec3& wi, float bsdfPdf) {
+float escapedMisWeight(const Scene& scene, const Vec3& from, const Vec3& wi, float bsdfPdf) {
     const EnvironmentLight* environment = scene.environment();
     if (!environment)
         return 1.0f;
     const float lightPdf = scene.lightSampler().pmf(uint32_t(scene.environmentLightIndex())) *
-                           environment->pdfDirection(wi);
+                           environment->pdfDirection(from, wi);
     return powerHeuristic(bsdfPdf, lightPdf);
 }
 
@@ -105,7 +105,7 @@ Color estimateDirectLight(const Scene& scene, const SurfaceHit& hit, const Bsdf&
         const std::optional<SurfaceHit> next = scene.intersect(ray);
         if (!next) {
             return fromLight +
-                   beta * scene.escaped(ray.d) * escapedMisWeight(scene, bs->wi, bs->pdf);
+                   beta * scene.escaped(ray.d) * escapedMisWeight(scene, hit.p, bs->wi, bs->pdf);
         }
         beta *= volumeAttenuation(scene, *next, ray.d);
         const Bsdf nextBsdf = scene.bsdf(*next);

@@ -37,9 +37,9 @@ DirectLightShares sampleDirectLightShares(const Scene& scene, const SurfaceHit& 
 float emissionMisWeight(const Scene& scene, const LightSampleContext& ctx, const Vec3& wi,
                         const SurfaceHit& lightHit, float bsdfPdf);
 
-// The same for the environment's radiance that a BSDF sample of density bsdfPdf found past a ray
-// that left the scene in direction wi; 1 without an environment.
-float escapedMisWeight(const Scene& scene, const Vec3& wi, float bsdfPdf);
+// The same for the environment's radiance that a BSDF sample of density bsdfPdf, leaving point
+// `from`, found past a ray that left the scene in direction wi; 1 without an environment.
+float escapedMisWeight(const Scene& scene, const Vec3& from, const Vec3& wi, float bsdfPdf);
 
 // The whole direct light reflected towards wo by the non-delta lobes, for a tracer that traces
 // no further bounce from this vertex (distribution ray tracing): the light sample above and one

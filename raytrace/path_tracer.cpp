@@ -186,8 +186,9 @@ PathRadiance PathTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHit,
         const std::optional<SurfaceHit> hit = scene_.intersect(ray);
         if (!hit) {
             if (scene_.environment()) {
-                addEmission(scene_.escaped(ray.d),
-                            lastDelta ? 1.0f : escapedMisWeight(scene_, ray.d, lastBsdfPdf));
+                addEmission(
+                    scene_.escaped(ray.d),
+                    lastDelta ? 1.0f : escapedMisWeight(scene_, lastCtx.p, ray.d, lastBsdfPdf));
             }
             break;
         }

@@ -162,7 +162,8 @@ TEST(EnvironmentLight, ConstantMapIsUniform) {
         const Vec3 w = sampleUniformSphere(Vec2(uniform(rng), uniform(rng)));
         worstRadiance = std::max(worstRadiance, relativeError(light.radiance(w).g, c.g));
         if (std::abs(w.y) < 0.8f)
-            worstPdf = std::max(worstPdf, relativeError(light.pdfDirection(w), 1.0 / (4.0 * kPiD)));
+            worstPdf = std::max(worstPdf,
+                                relativeError(light.pdfDirection(kCenter, w), 1.0 / (4.0 * kPiD)));
     }
     std::printf("[ measured ] worst relative radiance error %.3g, pdf error %.3g\n", worstRadiance,
                 worstPdf);
@@ -205,7 +206,7 @@ TEST(EnvironmentLight, PdfIntegratesToOne) {
         const double theta = (i + 0.5) * dTheta;
         double row = 0.0;
         for (int j = 0; j < nPhi; ++j)
-            row += light.pdfDirection(mapDirection(theta, -kPiD + (j + 0.5) * dPhi));
+            row += light.pdfDirection(kCenter, mapDirection(theta, -kPiD + (j + 0.5) * dPhi));
         integral += row * std::sin(theta) * dTheta * dPhi;
         if (theta < 0.5 * kPiD + kPiD / kHeight)  // down to the first row below the horizon
             upper += row * std::sin(theta) * dTheta * dPhi;
@@ -229,7 +230,7 @@ TEST(EnvironmentLight, SampleLiFollowsPdfDirection) {
             light.sampleLi(ctx, Vec2(uniform(rng), uniform(rng)));
         if (!s)
             continue;
-        ASSERT_EQ(s->pdf, light.pdfDirection(s->wi));
+        ASSERT_EQ(s->pdf, light.pdfDirection(kCenter, s->wi));
         ASSERT_EQ(s->L, light.radiance(s->wi));
         ASSERT_NEAR(glm::length(s->wi), 1.0f, 1e-5f);
         ASSERT_GT(glm::length(s->pLight - kCenter), kRadius);
@@ -247,7 +248,8 @@ TEST(EnvironmentLight, SampleLiFollowsPdfDirection) {
     };
     const auto pdf = [&](const Vec3& w) -> float {
         const Vec3 world = zUpToYUp(w);
-        return maxComponent(light.radiance(world)) > 0.0f ? light.pdfDirection(world) : 0.0f;
+        return maxComponent(light.radiance(world)) > 0.0f ? light.pdfDirection(kCenter, world)
+                                                          : 0.0f;
     };
     Chi2Options options;
     options.seed = 11;
@@ -377,7 +379,7 @@ TEST(EnvironmentLight, BlackMapEmitsNothing) {
     const EnvironmentLight light(makeImage(8, 4, [](int, int) { return Color(0.0f); }), Mat3(1.0f),
                                  1.0f, kCenter, kRadius, "");
     EXPECT_EQ(light.power(), Color(0.0f));
-    EXPECT_EQ(light.pdfDirection(glm::normalize(Vec3(0.2f, 0.5f, 0.1f))), 0.0f);
+    EXPECT_EQ(light.pdfDirection(kCenter, glm::normalize(Vec3(0.2f, 0.5f, 0.1f))), 0.0f);
     EXPECT_FALSE(light.sampleLi(LightSampleContext{Vec3(0.0f)}, Vec2(0.3f, 0.6f)));
     EXPECT_FALSE(light.sampleLe(Vec2(0.5f), Vec2(0.3f, 0.6f)));
 }
@@ -439,7 +441,7 @@ TEST(EnvironmentLight, SunAndSkyAddUp) {
             withSun.sampleLi(ctx, Vec2(uniform(rng), uniform(rng)));
         if (!s)
             continue;
-        ASSERT_EQ(s->pdf, withSun.pdfDirection(s->wi));
+        ASSERT_EQ(s->pdf, withSun.pdfDirection(ctx.p, s->wi));
         ASSERT_EQ(s->L, withSun.radiance(s->wi));
         inDisc += sun.contains(s->wi);
     }
