@@ -92,6 +92,46 @@ std::vector<CalculationPoint> readCalculationPoints(const std::string& path) {
     return points;
 }
 
+Workplane workplaneGrid(const std::string& text) {
+    std::vector<double> v;
+    for (const std::string& field : splitFields(text)) {
+        double value = 0.0;
+        if (!parseNumber(field, value) || !std::isfinite(value)) {
+            v.clear();
+            break;
+        }
+        v.push_back(value);
+    }
+    const auto refuse = [&](const std::string& why) {
+        throw UsageError("--grid \"" + text + "\": " + why +
+                         "; the form is X0,Z0,X1,Z1,HEIGHT,SPACING (metres)");
+    };
+    if (v.size() != 6)
+        refuse("expected six numbers");
+    const double x0 = v[0], z0 = v[1], x1 = v[2], z1 = v[3], height = v[4], spacing = v[5];
+    if (!(x0 < x1) || !(z0 < z1))
+        refuse("expected X0 < X1 and Z0 < Z1");
+    if (!(spacing > 0.0))
+        refuse("the spacing must be > 0");
+    Workplane grid;
+    grid.columns = int(std::ceil((x1 - x0) / spacing - 1e-9));
+    grid.rows = int(std::ceil((z1 - z0) / spacing - 1e-9));
+    if (double(grid.columns) * double(grid.rows) > 1e6)
+        refuse("more than a million points");
+    for (int j = 0; j < grid.rows; ++j) {
+        const double za = z0 + j * spacing, zb = std::min(z1, za + spacing);
+        for (int i = 0; i < grid.columns; ++i) {
+            const double xa = x0 + i * spacing, xb = std::min(x1, xa + spacing);
+            CalculationPoint point;
+            point.given = {0.5 * (xa + xb), height, 0.5 * (za + zb), 0.0, 1.0, 0.0};
+            point.sensor.p = Vec3(float(point.given[0]), float(height), float(point.given[2]));
+            point.sensor.n = Vec3(0.0f, 1.0f, 0.0f);
+            grid.points.push_back(point);
+        }
+    }
+    return grid;
+}
+
 void checkPointsOutputPath(const std::string& path) {
     const fs::path output(path);
     if (output.extension() != ".csv")

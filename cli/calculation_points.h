@@ -31,6 +31,18 @@ struct PointIlluminance {
 // a row that is not six finite numbers, a zero normal, or a file with no point.
 std::vector<CalculationPoint> readCalculationPoints(const std::string& path);
 
+// A workplane: the rectangle x in [X0, X1], z in [Z0, Z1] at height y = HEIGHT (metres, the
+// file's world frame), cut into square cells of side SPACING (the last ones cut short), one
+// upward sensor at each cell's centre, row by row from Z0 (the picture's top) and in each row from
+// X0, written "X0,Z0,X1,Z1,HEIGHT,SPACING".
+struct Workplane {
+    std::vector<CalculationPoint> points;
+    int columns = 0, rows = 0;  // along x and along z
+};
+// Throws UsageError for text that is not six finite numbers with X0 < X1, Z0 < Z1 and a spacing
+// > 0, or for more than 10^6 points.
+Workplane workplaneGrid(const std::string& text);
+
 // Throws InputError unless `path` ends in .csv and its directory exists: checked before the work.
 void checkPointsOutputPath(const std::string& path);
 

@@ -5,6 +5,8 @@
 #include "cli/scene_input.h"
 #include "core/camera.h"
 #include "core/errors.h"
+#include "core/heatmap.h"
+#include "core/image_io.h"
 #include "core/progress.h"
 #include "core/scene_contents.h"
 #include "core/sky.h"
@@ -34,7 +36,30 @@ struct IlluminanceOptions {
     IlluminanceSettings settings;
     int threads = 0;
     bool daylightFactor = false;
+    std::string grid;
+    std::string picture;
 };
+
+// The workplane's illuminance as a false-colour picture (core/heatmap.h): a cell per point, north
+// (-Z) up, scaled up to about 320 pixels across.
+void writeGridPicture(const std::string& path, const Workplane& grid,
+                      const std::vector<PointIlluminance>& results) {
+    const int scale = std::max(1, 320 / std::max(grid.columns, grid.rows));
+    Image lux(grid.columns * scale, grid.rows * scale, {"Y"});
+    for (int j = 0; j < grid.rows; ++j)
+        for (int i = 0; i < grid.columns; ++i)
+            for (int y = 0; y < scale; ++y)
+                for (int x = 0; x < scale; ++x)
+                    lux.at(i * scale + x, j * scale + y, 0) =
+                        float(results[size_t(j * grid.columns + i)].lux);
+    HeatmapLegend legend;
+    const Image picture = renderHeatmap(lux, "illuminance, lux (log scale)", legend);
+    ImageMetadata metadata;
+    metadata.set("penumbra:heatmap", std::string("illuminance_lux, log10 scale, viridis"));
+    metadata.set("penumbra:heatmap_low", float(legend.low));
+    metadata.set("penumbra:heatmap_high", float(legend.high));
+    writeImage(path, picture, {}, metadata, ToneMapping{});
+}
 
 // The sky's unobstructed horizontal illuminance for --daylight-factor: defined under an overcast
 // sky alone (CIE), whose E_h the user gave or took by default.
@@ -129,7 +154,16 @@ void measure(IlluminanceOptions& options) {
         }
     }
     checkPointsOutputPath(options.output);
-    const std::vector<CalculationPoint> points = readCalculationPoints(options.points);
+    if (options.points.empty() == options.grid.empty())
+        throw UsageError("give the points with --points IN.csv or --grid, one of them");
+    if (!options.picture.empty()) {
+        if (options.grid.empty())
+            throw UsageError("--picture draws a --grid's workplane: give --grid");
+        checkOutputPath(options.picture);
+    }
+    const Workplane grid = options.grid.empty() ? Workplane{} : workplaneGrid(options.grid);
+    const std::vector<CalculationPoint> points =
+        options.grid.empty() ? readCalculationPoints(options.points) : grid.points;
 
     const auto start = std::chrono::steady_clock::now();
     const std::unique_ptr<Scene> scene = loadScene(options.scene);
@@ -167,6 +201,8 @@ void measure(IlluminanceOptions& options) {
         dropped += r.dropped;
     }
     writePointIlluminance(options.output, points, results, skyHorizontalIlluminance);
+    if (!options.picture.empty())
+        writeGridPicture(options.picture, grid, results);
     if (dropped > 0) {
         std::cerr << "penumbra: warning: " << dropped
                   << " non-finite samples dropped (a bug: please report it)\n";
@@ -191,8 +227,14 @@ Command addIlluminanceCommand(CLI::App& app) {
         ->add_option("--points", options->points,
                      "Calculation points: a CSV file of rows x,y,z,nx,ny,nz (metres in the glTF "
                      "world frame, the sensor's normal; a header row allowed)")
-        ->required()
         ->check(CLI::ExistingFile);
+    command->add_option("--grid", options->grid,
+                        "A workplane instead of --points: X0,Z0,X1,Z1,HEIGHT,SPACING, upward "
+                        "sensors at the centres of square cells over x in [X0, X1], z in "
+                        "[Z0, Z1] at y = HEIGHT (metres)");
+    command->add_option("--picture", options->picture,
+                        "With --grid: the workplane's illuminance as a false-colour picture "
+                        "(.png, .exr, ...) with its legend");
     command
         ->add_option("-o,--output", options->output,
                      "Results: a CSV file with the header "

@@ -93,6 +93,8 @@ std::optional<PassScript> readPassScript(SceneInput& input) {
     unlessGiven(environment.time, script.time);
     unlessGiven(environment.northDegrees, script.north);
     unlessGiven(environment.sunDirectNormal, script.sunDirectNormal);
+    if (environment.portals.empty())
+        environment.portals = script.portals;
     return script;
 }
 
@@ -201,32 +203,15 @@ std::optional<SunDisc> makeSun(const EnvironmentInput& input,
     return sun;
 }
 
-// A portal from nine numbers, a corner and its two neighbours in the file's frame, rebased as the
-// scene is.
+// A portal of --portal or a script's `portals`, rebased as the scene is.
 Portal parsePortal(const std::string& text, const glm::dvec3& origin) {
-    std::vector<double> values;
-    std::stringstream fields(text);
-    for (std::string field; std::getline(fields, field, ',');) {
-        char* end = nullptr;
-        const double value = std::strtod(field.c_str(), &end);
-        if (field.empty() || *end != '\0' || !std::isfinite(value)) {
-            values.clear();
-            break;
-        }
-        values.push_back(value);
+    try {
+        const std::array<glm::dvec3, 3> c = parsePortalCorners(text);
+        return Portal{Vec3(c[0] - origin), Vec3(c[1] - c[0]), Vec3(c[2] - c[0])};
+    } catch (const std::invalid_argument& e) {
+        const std::string message = e.what();
+        throw UsageError("--" + message);
     }
-    if (values.size() != 9) {
-        throw UsageError("--portal \"" + text +
-                         "\": expected nine numbers X0,Y0,Z0,X1,Y1,Z1,X2,Y2,Z2 (a corner and "
-                         "its two neighbours, metres)");
-    }
-    const auto point = [&](int i) {
-        return glm::dvec3(values[3 * i], values[3 * i + 1], values[3 * i + 2]) - origin;
-    };
-    Portal portal{Vec3(point(0)), Vec3(point(1) - point(0)), Vec3(point(2) - point(0))};
-    if (!(portal.area() > 0.0f))
-        throw UsageError("--portal \"" + text + "\": its corners span no area");
-    return portal;
 }
 
 void applyEnvironment(const EnvironmentInput& input, SceneDescription& description) {

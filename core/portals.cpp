@@ -2,6 +2,9 @@
 
 #include "core/sampling.h"
 
+#include <cmath>
+#include <cstdlib>
+#include <sstream>
 #include <stdexcept>
 
 namespace penumbra {
@@ -32,6 +35,32 @@ std::optional<float> crossing(const Portal& portal, const Vec3& from, const Vec3
 }
 
 }  // namespace
+
+std::array<glm::dvec3, 3> parsePortalCorners(const std::string& text) {
+    std::vector<double> values;
+    std::stringstream fields(text);
+    for (std::string field; std::getline(fields, field, ',');) {
+        char* end = nullptr;
+        const double value = std::strtod(field.c_str(), &end);
+        if (field.empty() || *end != '\0' || !std::isfinite(value)) {
+            values.clear();
+            break;
+        }
+        values.push_back(value);
+    }
+    if (values.size() != 9) {
+        throw std::invalid_argument("portal \"" + text +
+                                    "\": expected nine numbers X0,Y0,Z0,X1,Y1,Z1,X2,Y2,Z2 (a "
+                                    "corner and its two neighbours, metres)");
+    }
+    std::array<glm::dvec3, 3> corners;
+    for (int i = 0; i < 3; ++i)
+        corners[size_t(i)] =
+            glm::dvec3(values[size_t(3 * i)], values[size_t(3 * i + 1)], values[size_t(3 * i + 2)]);
+    if (!(glm::length(glm::cross(corners[1] - corners[0], corners[2] - corners[0])) > 0.0))
+        throw std::invalid_argument("portal \"" + text + "\": its corners span no area");
+    return corners;
+}
 
 PortalSet::PortalSet(std::vector<Portal> portals) : portals_(std::move(portals)) {
     std::vector<float> areas;

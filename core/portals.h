@@ -10,7 +10,9 @@
 
 #include "core/math.h"
 
+#include <array>
 #include <optional>
+#include <string>
 #include <vector>
 
 namespace penumbra {
@@ -23,6 +25,12 @@ struct Portal {
 
     float area() const { return glm::length(glm::cross(edge1, edge2)); }
 };
+
+// The three corners of a portal written "X0,Y0,Z0,X1,Y1,Z1,X2,Y2,Z2" (a corner and its two
+// neighbours, as --portal and a pass script's `portals` take them), in double for rebasing.
+// Throws std::invalid_argument quoting the text unless it is nine finite numbers whose corners
+// span an area.
+std::array<glm::dvec3, 3> parsePortalCorners(const std::string& text);
 
 class PortalSet {
   public:

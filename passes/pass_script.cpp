@@ -20,10 +20,12 @@
 //   time         string (ISO 8601)         none               local time with its UTC offset
 //   north        float                     0                  true north from -Z, degrees
 //   sun_direct_normal     float >= 0       none               the sun's E_n, lux
+//   portals      string or array of them   none               windows, "X0,Y0,Z0,...,Z2" each
 //   pass         array of tables           required           the passes, in order
 #include "passes/pass_script.h"
 
 #include "core/image_io.h"
+#include "core/portals.h"
 #include "core/solar_position.h"
 
 #include <toml++/toml.h>
@@ -393,6 +395,20 @@ std::optional<std::string> readChecked(const ScriptTable& top, const std::string
     return text;
 }
 
+// The portals, each checked at its place.
+std::vector<std::string> readPortals(const ScriptTable& top) {
+    std::vector<std::string> portals;
+    for (const auto& [text, where] : top.strings("portals")) {
+        try {
+            parsePortalCorners(text);
+        } catch (const std::invalid_argument& e) {
+            throw top.error(where, "portals", e.what());
+        }
+        portals.push_back(text);
+    }
+    return portals;
+}
+
 std::optional<float> readPositive(const ScriptTable& top, const std::string& key) {
     const std::optional<float> value = top.find<float>(key);
     if (value && !(std::isfinite(*value) && *value > 0.0f))
@@ -480,6 +496,7 @@ PassScript loadPassScript(const std::string& path) {
         .north = top.find<float>("north"),
         .sunDirectNormal =
             optionalIn(top, "sun_direct_normal", 0.0f, std::numeric_limits<float>::max()),
+        .portals = readPortals(top),
         .passes = {},
         .topLevel = top};
 

@@ -121,6 +121,8 @@ struct PassScript {
     // counter-clockwise seen from above) and the direct normal illuminance (lux, >= 0).
     std::optional<std::string> site, time;
     std::optional<float> north, sunDirectNormal;
+    // Portals, each "X0,Y0,Z0,X1,Y1,Z1,X2,Y2,Z2" as --portal takes it (core/portals.h), checked.
+    std::vector<std::string> portals;
     std::vector<ScriptPass> passes;  // at least one, in order
     ScriptTable topLevel;            // for errors about top-level values found later
 };

@@ -1,6 +1,7 @@
 // `penumbra illuminance` end to end: calculation points against closed forms (a point light over
 // a plane, uniform and overcast skies, a furnace), sensors lying on surfaces, the CSV formats,
 // and the refusal of bad input.
+#include "core/image_io.h"
 #include "tests/support/cli_runner.h"
 #include "tests/support/gltf_builder.h"
 
@@ -375,6 +376,45 @@ TEST(Illuminance, EchoesTheInputAndIsDeterministic) {
     const std::string first = readText(dir.file("out.csv"));
     measure(scene, dir, points, "--spp 8 --threads 2");
     EXPECT_EQ(readText(dir.file("out.csv")), first);
+}
+
+// A workplane grid: sensors at the cells' centres, row by row from Z0, each reading I h / d³
+// under a point light over a black floor; the false-colour picture is written with its legend.
+TEST(Illuminance, WorkplaneGrid) {
+    TempDir dir("illuminance-grid");
+    GltfBuilder scene;
+    addFloor(scene, 50.0f, 0.0f, scene.addMaterial({.baseColor = Color(0.0f)}));
+    scene.addLight({.type = "point", .intensity = 100.0f, .position = {0, 2, 0}});
+    scene.write(dir.file("scene.gltf"));
+    const CliResult result = runPenumbra("illuminance " + dir.file("scene.gltf") +
+                                         " --grid -2,-1,2,1.5,0,1 -o " + dir.file("grid.csv") +
+                                         " --picture " + dir.file("grid.png") + " --spp 4 --quiet");
+    ASSERT_EQ(result.status, 0) << result.output;
+    const std::vector<Reading> rows = readResults(dir.file("grid.csv"));
+    // 4 columns of 1 m; 3 rows, the last cut short to 0.5 m (its centre at z = 1.25).
+    ASSERT_EQ(rows.size(), 12u);
+    const double zs[] = {-0.5, 0.5, 1.25}, xs[] = {-1.5, -0.5, 0.5, 1.5};
+    for (size_t k = 0; k < rows.size(); ++k) {
+        const double x = xs[k % 4], z = zs[k / 4];
+        EXPECT_EQ(rows[k].given, (std::vector<double>{x, 0, z, 0, 1, 0})) << k;
+        const double d = std::sqrt(x * x + 4.0 + z * z);
+        EXPECT_NEAR(rows[k].lux, 100.0 * 2.0 / (d * d * d), 1e-4) << k;
+    }
+    const Image picture = readImage(dir.file("grid.png"));
+    EXPECT_GE(picture.width(), 320);
+    EXPECT_GT(picture.height(), 64);
+
+    const auto refused = [&](const std::string& options, const std::string& message) {
+        const CliResult r = runPenumbra("illuminance " + dir.file("scene.gltf") + " -o " +
+                                        dir.file("bad.csv") + " " + options);
+        EXPECT_EQ(r.status, 2) << options << "\n" << r.output;
+        EXPECT_NE(r.output.find(message), std::string::npos) << r.output;
+    };
+    refused("--grid 1,2,3", "expected six numbers");
+    refused("--grid 1,0,0,1,0.8,0.5", "expected X0 < X1 and Z0 < Z1");
+    refused("--grid 0,0,1,1,0.8,0", "the spacing must be > 0");
+    refused("", "--points IN.csv or --grid");
+    refused("--grid 0,0,1,1,0.8,0.5 --picture " + dir.file("grid.txt"), "grid.txt");
 }
 
 // Bad input: exit status 2, a message naming the file and line, no output written.

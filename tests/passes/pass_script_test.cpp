@@ -152,7 +152,7 @@ TEST_F(PassScriptTest, UnknownTopLevelKey) {
               "2:1: widht: unknown key; valid keys here: scene, scene_index, camera, width, "
               "height, spp, seed, output, environment, environment_scale, "
               "environment_rotation, sky, sky_illuminance, ground_reflectance, site, time, north, "
-              "sun_direct_normal, pass");
+              "sun_direct_normal, portals, pass");
     // A depth belongs to the path pass, not to the script.
     EXPECT_EQ(firstLine(error(kScene + "max_depth = 3\n" + kPath)).substr(0, 27),
               "2:1: max_depth: unknown key");
@@ -202,6 +202,11 @@ TEST_F(PassScriptTest, OutOfRange) {
               "2:22: ground_reflectance: expected a number in [0, 1], got 1.5");
     EXPECT_EQ(firstLine(error(kScene + "environment_rotation = \"east\"\n" + kPath)).substr(0, 38),
               "2:24: environment_rotation: expected a");
+    EXPECT_EQ(firstLine(error(kScene + "time = \"noon\"\n" + kPath)).substr(0, 22),
+              "2:8: time: time \"noon\"");
+    EXPECT_EQ(firstLine(error(kScene + "portals = [\"0,0,0,1,0,0,0,1,0\", \"1,2,3\"]\n" + kPath))
+                  .substr(0, 37),
+              "2:33: portals: portal \"1,2,3\": expect");
 }
 
 TEST_F(PassScriptTest, PassTypes) {
