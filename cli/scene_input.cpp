@@ -4,6 +4,7 @@
 #include "core/environment_source.h"
 #include "core/errors.h"
 #include "core/gltf_loader.h"
+#include "core/photometric_files.h"
 #include "core/sky.h"
 #include "core/solar_position.h"
 
@@ -11,6 +12,8 @@
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
+#include <map>
+#include <memory>
 #include <sstream>
 
 namespace penumbra::cli {
@@ -95,6 +98,7 @@ std::optional<PassScript> readPassScript(SceneInput& input) {
     unlessGiven(environment.sunDirectNormal, script.sunDirectNormal);
     if (environment.portals.empty())
         environment.portals = script.portals;
+    input.luminaires = script.luminaires;
     return script;
 }
 
@@ -272,6 +276,46 @@ void applyEnvironment(const EnvironmentInput& input, SceneDescription& descripti
     }
 }
 
+// The luminaire's frame from the script's aim and C0 direction: the nadir (-Z of the frame) along
+// the aim, C0 (+X) towards c0 or, by default, towards world +X across the aim (+Z when the aim is
+// along X), C90 (+Y) completing a right-handed frame.
+Mat3 luminaireFrame(const ScriptLuminaire& luminaire) {
+    const glm::dvec3 z =
+        -glm::normalize(glm::dvec3(luminaire.aim[0], luminaire.aim[1], luminaire.aim[2]));
+    glm::dvec3 c = luminaire.c0
+                       ? glm::dvec3((*luminaire.c0)[0], (*luminaire.c0)[1], (*luminaire.c0)[2])
+                       : glm::dvec3(1.0, 0.0, 0.0);
+    if (!luminaire.c0 && std::abs(z.x) > 0.999)
+        c = glm::dvec3(0.0, 0.0, 1.0);
+    const glm::dvec3 x = glm::normalize(c - z * glm::dot(z, c));
+    return Mat3(glm::dmat3(x, glm::cross(z, x), z));
+}
+
+// A pass script's [[luminaire]] tables as luminaires of the scene, each file read once.
+void addLuminaires(const std::vector<ScriptLuminaire>& luminaires, SceneDescription& description) {
+    std::map<std::string, std::shared_ptr<const CandelaTable>> tables;
+    for (const ScriptLuminaire& luminaire : luminaires) {
+        std::shared_ptr<const CandelaTable>& table = tables[luminaire.file];
+        if (!table) {
+            const std::filesystem::path file(luminaire.file);
+            const Photometry photometry = file.extension() == ".ldt" || file.extension() == ".LDT"
+                                              ? readLdt(file)
+                                              : readIes(file);
+            table = std::make_shared<const CandelaTable>(photometry.candela);
+        }
+        LuminaireDesc desc;
+        desc.name = std::filesystem::path(luminaire.file).filename().string();
+        desc.table = table;
+        desc.position =
+            Vec3(glm::dvec3(luminaire.position[0], luminaire.position[1], luminaire.position[2]) -
+                 description.origin);
+        desc.luminaireToWorld = luminaireFrame(luminaire);
+        desc.color = Color(luminaire.color[0], luminaire.color[1], luminaire.color[2]);
+        desc.multiplier = luminaire.multiplier;
+        description.luminaires.push_back(std::move(desc));
+    }
+}
+
 }  // namespace
 
 std::unique_ptr<Scene> loadScene(const SceneInput& input) {
@@ -290,6 +334,7 @@ std::unique_ptr<Scene> loadScene(const SceneInput& input) {
     }
     SceneDescription description = loadGltf(input.path, input.sceneIndex);
     applyEnvironment(input.environment, description);
+    addLuminaires(input.luminaires, description);
     if (!input.quiet) {
         for (const std::string& warning : description.report.warnings) {
             std::cerr << "penumbra: warning: " << warning << "\n";

@@ -40,6 +40,7 @@ struct SceneInput {
     int sceneIndex = -1;  // glTF `scenes` index, -1 = the file's default scene
     bool quiet = false;
     EnvironmentInput environment;
+    std::vector<ScriptLuminaire> luminaires;  // a pass script's [[luminaire]] tables
 };
 
 // Whether a command reads pass scripts as its SCENE (render, plan, info) or glTF only.
@@ -53,9 +54,10 @@ void addSceneInputOptions(CLI::App& command, SceneInput& input, PassScripts scri
 std::optional<PassScript> readPassScript(SceneInput& input);
 
 // Loads the glTF file (after readPassScript, the scene of a pass script), sets or adjusts its
-// environment light as `input.environment` says, prints the loader's warnings to stderr unless
-// quiet, and builds the scene. Throws SceneError on a bad scene, InputError on a bad environment
-// image, UsageError for a scale or rotation with no environment to apply it to.
+// environment light as `input.environment` says, adds the script's luminaires, prints the loader's
+// warnings to stderr unless quiet, and builds the scene. Throws SceneError on a bad scene,
+// InputError on a bad environment image, UsageError for a scale or rotation with no environment to
+// apply it to.
 std::unique_ptr<Scene> loadScene(const SceneInput& input);
 
 }  // namespace penumbra::cli

@@ -21,6 +21,9 @@
 //   north        float                     0                  true north from -Z, degrees
 //   sun_direct_normal     float >= 0       none               the sun's E_n, lux
 //   portals      string or array of them   none               windows, "X0,Y0,Z0,...,Z2" each
+//   luminaire    array of tables           none               measured luminaires: file,
+//                                                             position, aim, c0, multiplier,
+//                                                             color (docs/pass-scripts.md)
 //   pass         array of tables           required           the passes, in order
 #include "passes/pass_script.h"
 
@@ -269,6 +272,29 @@ template int64_t ScriptTable::get<int64_t>(const std::string&, int64_t, int64_t,
 template float ScriptTable::get<float>(const std::string&, float, float, float) const;
 template double ScriptTable::get<double>(const std::string&, double, double, double) const;
 
+std::optional<std::vector<double>> ScriptTable::numbers(const std::string& key,
+                                                        size_t count) const {
+    const toml::node* node = impl_->lookup(key);
+    if (!node)
+        return std::nullopt;
+    const toml::array* array = node->as_array();
+    const std::string expected = "expected an array of " + std::to_string(count) + " numbers";
+    if (!array || array->size() != count)
+        throw error(key, expected + ", got " + describe(*node));
+    std::vector<double> values;
+    for (const toml::node& element : *array) {
+        std::optional<double> value;
+        if (const auto* v = element.as_floating_point())
+            value = v->get();
+        else if (const auto* v = element.as_integer())
+            value = double(v->get());
+        if (!value || !std::isfinite(*value))
+            throw error(key, expected + ", got " + describe(*node));
+        values.push_back(*value);
+    }
+    return values;
+}
+
 std::vector<std::pair<std::string, ScriptLocation>> ScriptTable::strings(
     const std::string& key) const {
     std::vector<std::pair<std::string, ScriptLocation>> result;
@@ -395,6 +421,48 @@ std::optional<std::string> readChecked(const ScriptTable& top, const std::string
     return text;
 }
 
+std::array<double, 3> toArray3(const std::vector<double>& v) {
+    return {v[0], v[1], v[2]};
+}
+
+// One [[luminaire]] table: file and position required, the rest checked against their defaults.
+ScriptLuminaire readLuminaire(const ScriptTable& t) {
+    ScriptLuminaire luminaire;
+    const std::optional<std::string> file = t.find<std::string>("file");
+    if (!file)
+        throw t.error("file", "missing: the luminaire's IES or LDT file");
+    luminaire.file = resolve(t.file(), *file);
+    std::error_code ec;
+    if (!fs::is_regular_file(luminaire.file, ec))
+        throw t.error("file", "file not found: " + luminaire.file);
+    const std::optional<std::vector<double>> position = t.numbers("position", 3);
+    if (!position)
+        throw t.error("position", "missing: [x, y, z] in metres");
+    luminaire.position = toArray3(*position);
+    if (const std::optional<std::vector<double>> aim = t.numbers("aim", 3)) {
+        if (!((*aim)[0] != 0.0 || (*aim)[1] != 0.0 || (*aim)[2] != 0.0))
+            throw t.error("aim", "expected a direction, got [0, 0, 0]");
+        luminaire.aim = toArray3(*aim);
+    }
+    if (const std::optional<std::vector<double>> c0 = t.numbers("c0", 3)) {
+        const glm::dvec3 a(luminaire.aim[0], luminaire.aim[1], luminaire.aim[2]);
+        const glm::dvec3 c((*c0)[0], (*c0)[1], (*c0)[2]);
+        if (!(glm::length(glm::cross(a, c)) > 1e-6 * glm::length(a) * glm::length(c)))
+            throw t.error("c0", "expected a direction across the aim, not along it");
+        luminaire.c0 = toArray3(*c0);
+    }
+    luminaire.multiplier =
+        t.get<float>("multiplier", 1.0f, 0.0f, std::numeric_limits<float>::max());
+    if (const std::optional<std::vector<double>> color = t.numbers("color", 3)) {
+        for (size_t i = 0; i < 3; ++i) {
+            if (!((*color)[i] >= 0.0 && (*color)[i] <= 1.0))
+                throw t.error("color", "expected three numbers in [0, 1]");
+            luminaire.color[i] = float((*color)[i]);
+        }
+    }
+    return luminaire;
+}
+
 // The portals, each checked at its place.
 std::vector<std::string> readPortals(const ScriptTable& top) {
     std::vector<std::string> portals;
@@ -497,6 +565,7 @@ PassScript loadPassScript(const std::string& path) {
         .sunDirectNormal =
             optionalIn(top, "sun_direct_normal", 0.0f, std::numeric_limits<float>::max()),
         .portals = readPortals(top),
+        .luminaires = {},
         .passes = {},
         .topLevel = top};
 
@@ -518,6 +587,22 @@ PassScript loadPassScript(const std::string& path) {
             tableAt(&table, "pass[" + std::to_string(i) + "]", locationOf(table.source()));
         script.passes.push_back(
             {parameters.find<std::string>("type").value_or(""), std::move(parameters)});
+    }
+    // [[luminaire]]: measured luminaires placed by the script.
+    if (const toml::node* luminaires = top.impl_->lookup("luminaire")) {
+        const toml::array* list = luminaires->as_array();
+        if (!list || !list->is_array_of_tables()) {
+            throw top.error(
+                "luminaire",
+                "expected [[luminaire]] tables (an array of tables), got " + describe(*luminaires));
+        }
+        for (size_t i = 0; i < list->size(); ++i) {
+            const toml::table& table = *list->get(i)->as_table();
+            const ScriptTable t =
+                tableAt(&table, "luminaire[" + std::to_string(i) + "]", locationOf(table.source()));
+            script.luminaires.push_back(readLuminaire(t));
+            t.reportUnused();
+        }
     }
     top.reportUnused();
     return script;

@@ -20,6 +20,7 @@
 
 #include "core/errors.h"
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -70,6 +71,8 @@ class ScriptTable {
     // 0"; a bound at the type's limit is left out of the message).
     template <typename T>
     T get(const std::string& key, T fallback, T minimum, T maximum) const;
+    // An array of exactly `count` finite numbers; nothing when absent.
+    std::optional<std::vector<double>> numbers(const std::string& key, size_t count) const;
     // A string or an array of strings, each with its location; empty when absent.
     std::vector<std::pair<std::string, ScriptLocation>> strings(const std::string& key) const;
 
@@ -90,6 +93,16 @@ class ScriptTable {
   private:
     friend PassScript loadPassScript(const std::string& path);
     std::shared_ptr<Impl> impl_;
+};
+
+// One [[luminaire]] table: a measured luminaire (core/photometric_files.h) placed by the script.
+struct ScriptLuminaire {
+    std::string file;                           // the IES or LDT file, resolved, existing
+    std::array<double, 3> position{};           // metres, the glTF file's world frame
+    std::array<double, 3> aim{0.0, -1.0, 0.0};  // the nadir's direction (default straight down)
+    std::optional<std::array<double, 3>> c0;    // towards the C0 plane; default: across the aim
+    float multiplier = 1.0f;
+    std::array<float, 3> color{1.0f, 1.0f, 1.0f};
 };
 
 // One [[pass]] table: its type and its parameters (`type` already read).
@@ -123,8 +136,9 @@ struct PassScript {
     std::optional<float> north, sunDirectNormal;
     // Portals, each "X0,Y0,Z0,X1,Y1,Z1,X2,Y2,Z2" as --portal takes it (core/portals.h), checked.
     std::vector<std::string> portals;
-    std::vector<ScriptPass> passes;  // at least one, in order
-    ScriptTable topLevel;            // for errors about top-level values found later
+    std::vector<ScriptLuminaire> luminaires;  // [[luminaire]] tables, in order
+    std::vector<ScriptPass> passes;           // at least one, in order
+    ScriptTable topLevel;                     // for errors about top-level values found later
 };
 
 // Reads and checks a pass script: TOML syntax, the top-level keys (types, ranges, that the scene

@@ -150,6 +150,63 @@ TEST(Luminaire, IlluminanceUnderARealProfileMatchesItsPrintedCandela) {
     }
 }
 
+// A pass script places luminaires too: [[luminaire]] with its file, position and by default an
+// aim straight down with C0 along +X (so C90 along -Z, as the glTF node above): the same law.
+TEST(Luminaire, APassScriptPlacesThem) {
+    TempDir dir("luminaire-script");
+    writeText(dir.file("profile.ies"), kSyntheticIes);
+    blackFloor().write(dir.file("scene.gltf"));
+    writeText(dir.file("scene.toml"),
+              "scene = \"scene.gltf\"\n"
+              "[[luminaire]]\nfile = \"profile.ies\"\nposition = [0, 3, 0]\nmultiplier = 2\n"
+              "[[pass]]\ntype = \"path\"\n");
+    std::ostringstream csv;
+    std::vector<double> expected;
+    for (double c : {0.0, 90.0, 180.0}) {
+        for (double gamma : {10.0, 40.0}) {
+            const Vec3 p = floorPoint(gamma, c);
+            csv << p.x << "," << p.y << "," << p.z << ",0,1,0\n";
+            const double cosGamma = std::cos(gamma * M_PI / 180.0);
+            expected.push_back(2.0 * syntheticIntensity(gamma, c) * std::pow(cosGamma, 3) /
+                               (kHeight * kHeight));
+        }
+    }
+    writeText(dir.file("points.csv"), csv.str());
+    const CliResult run =
+        runPenumbra("illuminance " + dir.file("scene.toml") + " --points " +
+                    dir.file("points.csv") + " -o " + dir.file("out.csv") + " --spp 4 --quiet");
+    ASSERT_EQ(run.status, 0) << run.output;
+    std::ifstream in(dir.file("out.csv"));
+    std::string line;
+    std::getline(in, line);
+    for (size_t i = 0; i < expected.size(); ++i) {
+        ASSERT_TRUE(std::getline(in, line));
+        std::stringstream fields(line);
+        std::string field;
+        for (int k = 0; k < 7; ++k)
+            std::getline(fields, field, ',');
+        EXPECT_NEAR(std::stod(field), expected[i], 0.005 * expected[i]) << "point " << i;
+    }
+
+    // Bad tables are refused at their place.
+    const auto refused = [&](const std::string& table, const std::string& message) {
+        writeText(dir.file("bad.toml"), "scene = \"scene.gltf\"\n[[luminaire]]\n" + table +
+                                            "[[pass]]\ntype = \"path\"\n");
+        const CliResult r = runPenumbra("illuminance " + dir.file("bad.toml") + " --points " +
+                                        dir.file("points.csv") + " -o " + dir.file("bad.csv"));
+        EXPECT_EQ(r.status, 2) << table << r.output;
+        EXPECT_NE(r.output.find(message), std::string::npos) << r.output;
+    };
+    refused("position = [0, 3, 0]\n", "luminaire[0].file: missing");
+    refused("file = \"none.ies\"\nposition = [0, 3, 0]\n", "file not found");
+    refused("file = \"profile.ies\"\n", "luminaire[0].position: missing");
+    refused("file = \"profile.ies\"\nposition = [0, 3]\n", "expected an array of 3 numbers");
+    refused("file = \"profile.ies\"\nposition = [0, 3, 0]\naim = [0, 0, 0]\n",
+            "expected a direction");
+    refused("file = \"profile.ies\"\nposition = [0, 3, 0]\nc0 = [0, -2, 0]\n", "across the aim");
+    refused("file = \"profile.ies\"\nposition = [0, 3, 0]\nbeam = 2\n", "unknown key");
+}
+
 // The colour tints the light (luminance-weighted: Rec. 709 Y of the colour), and with no
 // rotation the nadir is the node's -Z: a sensor facing +Z one metre in front of it reads I(0).
 TEST(Luminaire, ColourAndDefaultAim) {
