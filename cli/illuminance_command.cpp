@@ -84,9 +84,9 @@ double daylightFactorBase(const EnvironmentInput& input) {
 // solution, a caustic map) exist, and keeps alive everything the estimator refers to.
 class PreparedPipeline {
   public:
-    PreparedPipeline(const std::string& name, const Scene& scene, const IlluminanceSettings& s,
+    PreparedPipeline(Pipeline pipeline, const Scene& scene, const IlluminanceSettings& s,
                      bool quiet)
-        : pipeline_(makePipelinePreset(name, RenderSettings{})),
+        : pipeline_(std::move(pipeline)),
           contents_(analyseScene(scene)),
           camera_(chooseCamera(scene.description().cameras, "", scene.bounds()), 1, 1) {
         settings_.width = settings_.height = 1;
@@ -107,7 +107,8 @@ class PreparedPipeline {
             }
         }
         if (!estimator_)
-            throw UsageError("--pipeline " + name + ": no pass of it forms an image to measure by");
+            throw UsageError("pipeline " + pipeline_.name() +
+                             ": no pass of it forms an image to measure by");
         // What the other image-forming passes add to the image (the caustic pass's caustics) is
         // not in the points: say so.
         if (!quiet) {
@@ -122,6 +123,7 @@ class PreparedPipeline {
     }
 
     const RadianceEstimator& estimator() const { return *estimator_; }
+    const std::string& name() const { return pipeline_.name(); }
 
   private:
     Pipeline pipeline_;
@@ -137,6 +139,10 @@ void measure(IlluminanceOptions& options) {
     IlluminanceSettings& settings = options.settings;
     const std::optional<PassScript> script = readPassScript(options.scene);
     if (script) {
+        if (options.command->count("--pipeline") > 0) {
+            throw UsageError("--pipeline cannot be combined with a pass script (" + script->file +
+                             "): the script's [[pass]] tables are the pipeline");
+        }
         if (options.command->count("--spp") == 0 && script->spp)
             settings.samples = *script->spp;
         if (options.command->count("--seed") == 0 && script->seed)
@@ -169,7 +175,9 @@ void measure(IlluminanceOptions& options) {
     const std::unique_ptr<Scene> scene = loadScene(options.scene);
     const int threads = options.threads > 0 ? options.threads : tbb::info::default_concurrency();
     tbb::global_control parallelism(tbb::global_control::max_allowed_parallelism, threads);
-    const PreparedPipeline pipeline(options.pipeline, *scene, settings, options.scene.quiet);
+    const PreparedPipeline pipeline(script ? makeScriptPipeline(*script, PassOverrides{})
+                                           : makePipelinePreset(options.pipeline, RenderSettings{}),
+                                    *scene, settings, options.scene.quiet);
     // The solve counts against the time limit; the samples get what is left (at least a round).
     if (settings.timeLimit > 0.0)
         settings.timeLimit = std::max(settings.timeLimit - secondsSince(start), 1e-9);
@@ -209,7 +217,7 @@ void measure(IlluminanceOptions& options) {
     }
     if (!options.scene.quiet) {
         std::cerr << "penumbra: wrote " << options.output << ": " << points.size() << " points, "
-                  << samples << " samples each, pipeline " << options.pipeline << ", "
+                  << samples << " samples each, pipeline " << pipeline.name() << ", "
                   << secondsSince(start) << " s\n";
     }
 }
@@ -240,9 +248,7 @@ Command addIlluminanceCommand(CLI::App& app) {
                      "Results: a CSV file with the header "
                      "x,y,z,nx,ny,nz,illuminance_lux,stderr_lux, one row per point in order")
         ->required();
-    command
-        ->add_option("--pipeline", options->pipeline, "The estimator: reference (the path tracer)")
-        ->capture_default_str();
+    addPipelineOption(*command, options->pipeline);
     command
         ->add_option("--spp", options->settings.samples,
                      "Samples per point (the target with --time-limit), at least 2")

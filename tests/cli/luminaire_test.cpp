@@ -188,6 +188,14 @@ TEST(Luminaire, APassScriptPlacesThem) {
         EXPECT_NEAR(std::stod(field), expected[i], 0.005 * expected[i]) << "point " << i;
     }
 
+    // The script's passes are the pipeline: --pipeline is refused with it.
+    const CliResult both =
+        runPenumbra("illuminance " + dir.file("scene.toml") + " --points " +
+                    dir.file("points.csv") + " -o " + dir.file("both.csv") + " --pipeline hybrid");
+    EXPECT_EQ(both.status, 2) << both.output;
+    EXPECT_NE(both.output.find("cannot be combined with a pass script"), std::string::npos)
+        << both.output;
+
     // Bad tables are refused at their place.
     const auto refused = [&](const std::string& table, const std::string& message) {
         writeText(dir.file("bad.toml"), "scene = \"scene.gltf\"\n[[luminaire]]\n" + table +
