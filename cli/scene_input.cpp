@@ -1,6 +1,7 @@
 #include "cli/scene_input.h"
 
 #include "cli/commands.h"
+#include "core/environment_light.h"
 #include "core/environment_source.h"
 #include "core/errors.h"
 #include "core/gltf_loader.h"
@@ -38,6 +39,11 @@ void addSceneInputOptions(CLI::App& command, SceneInput& input, PassScripts scri
     command
         .add_option("--environment-scale", input.environment.scale,
                     "Multiplies the environment's radiance (default 1)")
+        ->check(CLI::PositiveNumber);
+    command
+        .add_option("--environment-illuminance", input.environment.illuminance,
+                    "Scales the environment so that an upward plane in the open gets this "
+                    "illuminance from it, lux (instead of --environment-scale)")
         ->check(CLI::PositiveNumber);
     command.add_option("--environment-rotation", input.environment.rotationDegrees,
                        "Turns the environment about the up axis (+Y), degrees, counter-clockwise "
@@ -89,6 +95,7 @@ std::optional<PassScript> readPassScript(SceneInput& input) {
     unlessGiven(environment.file, script.environment);
     unlessGiven(environment.scale, script.environmentScale);
     unlessGiven(environment.rotationDegrees, script.environmentRotation);
+    unlessGiven(environment.illuminance, script.environmentIlluminance);
     unlessGiven(environment.sky, script.sky);
     unlessGiven(environment.skyIlluminance, script.skyIlluminance);
     unlessGiven(environment.groundReflectance, script.groundReflectance);
@@ -218,6 +225,25 @@ Portal parsePortal(const std::string& text, const glm::dvec3& origin) {
     }
 }
 
+// Scales the environment (an image's or the scene's own) so that its horizontal illuminance is
+// `lux`.
+void scaleToIlluminance(float lux, SceneDescription& description) {
+    if (!description.environment) {
+        throw UsageError(description.file +
+                         ": --environment-illuminance needs an environment: the scene has none; "
+                         "give one with --environment FILE");
+    }
+    EnvironmentDesc& environment = *description.environment;
+    const EnvironmentLight map(environment.radiance, environment.worldToLocal, environment.scale,
+                               Vec3(0.0f), 1.0f, environment.file);
+    const double now = map.horizontalIlluminance();
+    if (!(now > 0.0)) {
+        throw UsageError("--environment-illuminance: " + environment.file +
+                         " is black above the horizon; it cannot be scaled to light a plane");
+    }
+    environment.scale = float(double(environment.scale) * lux / now);
+}
+
 void applyEnvironment(const EnvironmentInput& input, SceneDescription& description) {
     const float scale = input.scale.value_or(1.0f);
     const Mat3 turn = environmentRotation(input.rotationDegrees.value_or(0.0f));
@@ -227,6 +253,11 @@ void applyEnvironment(const EnvironmentInput& input, SceneDescription& descripti
     const std::optional<SunDisc> sun = makeSun(input, place);
     if (!input.sky && input.skyIlluminance)
         throw UsageError("--sky-illuminance needs --sky");
+    if (input.illuminance && (input.scale || input.sky)) {
+        throw UsageError(
+            "--environment-illuminance sets the scale: not with --environment-scale "
+            "or --sky (a sky's is --sky-illuminance)");
+    }
     if (!input.sky && !sun && input.groundReflectance)
         throw UsageError("--ground-reflectance needs --sky or --sun-direct-normal");
     if (place && !input.sky && !sun) {
@@ -260,6 +291,8 @@ void applyEnvironment(const EnvironmentInput& input, SceneDescription& descripti
         description.environment->scale *= scale;
         description.environment->worldToLocal = description.environment->worldToLocal * turn;
     }
+    if (input.illuminance)
+        scaleToIlluminance(*input.illuminance, description);
     // The sun joins whatever environment there now is: the scene's own, an image or a sky.
     if (sun) {
         description.environment->sun = sun;

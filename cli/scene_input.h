@@ -23,6 +23,7 @@ struct EnvironmentInput {
     std::optional<float> skyIlluminance;     // lux, > 0
     std::optional<float> groundReflectance;  // in [0, 1]
     std::optional<float> scale;              // > 0, multiplies the environment's radiance
+    std::optional<float> illuminance;        // lux, > 0: scales it to this horizontal illuminance
     std::optional<float> rotationDegrees;    // about +Y, counter-clockwise seen from above
     // The sun (--site, --time, --north, --sun-direct-normal): its position places the sun's
     // disc (core/sun_disc.h) and the glow of the skies that depend on it.

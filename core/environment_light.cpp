@@ -167,6 +167,24 @@ Color EnvironmentLight::radiance(const Vec3& towards) const {
 
 // pbrt-v3's InfiniteAreaLight::Pdf_Li (section 14.2.4): the density p(u, v) of the image
 // coordinates over the Jacobian of the map, d omega = 2 pi² sin(theta) du dv.
+double EnvironmentLight::horizontalIlluminance() const {
+    constexpr int kRings = 512, kSectors = 2048;
+    const double dTheta = 0.5 * double(kPi) / kRings, dPhi = 2.0 * double(kPi) / kSectors;
+    double sum = 0.0;
+    for (int i = 0; i < kRings; ++i) {
+        const double theta = (i + 0.5) * dTheta;
+        const double weight = std::cos(theta) * std::sin(theta) * dTheta * dPhi;
+        for (int j = 0; j < kSectors; ++j) {
+            const double phi = (j + 0.5) * dPhi;
+            const Vec3 up(float(std::sin(theta) * std::cos(phi)), float(std::cos(theta)),
+                          float(std::sin(theta) * std::sin(phi)));
+            const Color L = radiance(up) - (inSun(up) ? Color(sun_->radiance()) : Color(0.0f));
+            sum += double(luminance(L)) * weight;
+        }
+    }
+    return sum;
+}
+
 float EnvironmentLight::pdfDirection(const Vec3& from, const Vec3& towards) const {
     const float sun = inSun(towards) ? sunProbability_ / sun_->solidAngle() : 0.0f;
     const float portals = portalProbability_ > 0.0f ? portals_.pdf(from, towards) : 0.0f;

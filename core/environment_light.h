@@ -64,6 +64,12 @@ class EnvironmentLight : public Light {
     // centres, wrapping around in u and clamped in v, times the scale, plus the sun's radiance
     // inside its disc.
     Color radiance(const Vec3& towards) const;
+    // The horizontal illuminance (lux, the Rec. 709 luminance of the irradiance) that the map,
+    // without the sun, gives an upward plane with nothing around it: the integral of
+    // radiance() cos(theta) over the upper hemisphere in world axes, by the midpoint rule on
+    // 512 x 2048 cells (the bilinear radiance is smooth between pixel centres, so the rule's
+    // error is far below a percent for maps of 4096 pixels across or fewer).
+    double horizontalIlluminance() const;
     // Solid-angle density (1/sr) with which sampleLi() from point `from` draws unit world
     // direction `towards`.
     float pdfDirection(const Vec3& from, const Vec3& towards) const;

@@ -13,6 +13,7 @@
 //   environment  string                    the scene's        environment image, relative to it
 //   environment_scale     float > 0        1                  multiplies its radiance
 //   environment_rotation  float            0                  degrees about +Y
+//   environment_illuminance  float > 0     none               lux on an upward plane: the scale
 //   sky          string                    none               a sky model (core/sky.h)
 //   sky_illuminance       float > 0        10000              lux, horizontal, unobstructed
 //   ground_reflectance    float in [0, 1]  0.2                the ground below the horizon
@@ -556,6 +557,7 @@ PassScript loadPassScript(const std::string& path) {
         .environment = readEnvironmentFile(top),
         .environmentScale = readPositive(top, "environment_scale"),
         .environmentRotation = top.find<float>("environment_rotation"),
+        .environmentIlluminance = readPositive(top, "environment_illuminance"),
         .sky = top.find<std::string>("sky"),
         .skyIlluminance = readPositive(top, "sky_illuminance"),
         .groundReflectance = optionalIn(top, "ground_reflectance", 0.0f, 1.0f),

@@ -124,7 +124,7 @@ struct PassScript {
     // The environment light (cli/scene_input.h, EnvironmentInput): an image file resolved
     // relative to the script's folder, a scale > 0 and a rotation about +Y in degrees.
     std::optional<std::string> environment;
-    std::optional<float> environmentScale, environmentRotation;
+    std::optional<float> environmentScale, environmentRotation, environmentIlluminance;
     // A sky in place of the environment (core/sky.h): its model, its unobstructed horizontal
     // illuminance (lux) and the ground's reflectance.
     std::optional<std::string> sky;

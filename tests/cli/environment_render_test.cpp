@@ -11,6 +11,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 
 namespace penumbra::test {
 namespace {
@@ -280,6 +281,43 @@ TEST(Skies, OvercastZenithAndGround) {
     const Image underside = renderWith(scene, dir, sky);
     const double ground = kRho * kGround * kIlluminance / kPi;
     EXPECT_NEAR(luminanceMean(underside), ground, 0.01 * ground);
+}
+
+// --environment-illuminance scales a map so that an upward plane in the open gets that many lux,
+// whatever the map's distribution: a sensor in the open (penumbra illuminance) reads it.
+TEST(EnvironmentInput, IlluminanceSetsTheScale) {
+    TempDir dir("environment-illuminance");
+    writeMap(dir.file("sky.exr"), 64, 32, [](float u, float v) {
+        return v < 0.5f ? Color(1.0f + 3.0f * u, 2.0f, 0.5f + v) : Color(0.1f);
+    });
+    GltfBuilder scene;
+    scene.addQuad({-0.1f, -100, 0.1f}, {0.1f, -100, 0.1f}, {0.1f, -100, -0.1f},
+                  {-0.1f, -100, -0.1f}, scene.addMaterial({}));
+    scene.write(dir.file("scene.gltf"));
+    std::ofstream(dir.file("points.csv")) << "0,0,0,0,1,0\n";
+    const CliResult result = runPenumbra("illuminance " + dir.file("scene.gltf") + " --points " +
+                                         dir.file("points.csv") + " -o " + dir.file("out.csv") +
+                                         " --quiet --spp 4096 --environment " +
+                                         dir.file("sky.exr") + " --environment-illuminance 5000");
+    ASSERT_EQ(result.status, 0) << result.output;
+    std::ifstream in(dir.file("out.csv"));
+    std::string line;
+    std::getline(in, line);
+    std::getline(in, line);
+    std::vector<double> values;
+    std::stringstream fields(line);
+    for (std::string field; std::getline(fields, field, ',');)
+        values.push_back(std::stod(field));
+    ASSERT_EQ(values.size(), 8u);
+    // 4 standard errors, plus the midpoint rule's error on the bilinear map (well under 0.1 %).
+    EXPECT_NEAR(values[6], 5000.0, 4.0 * values[7] + 5.0);
+    EXPECT_LT(values[7], 0.01 * 5000.0);
+    const CliResult both =
+        runPenumbra("illuminance " + dir.file("scene.gltf") + " --points " +
+                    dir.file("points.csv") + " -o " + dir.file("both.csv") + " --environment " +
+                    dir.file("sky.exr") + " --environment-illuminance 5000 --environment-scale 2");
+    EXPECT_EQ(both.status, 2);
+    EXPECT_NE(both.output.find("not with --environment-scale"), std::string::npos) << both.output;
 }
 
 // Bad environments are refused with the file and the place, exit status 2, and no image.

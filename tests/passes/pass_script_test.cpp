@@ -151,7 +151,8 @@ TEST_F(PassScriptTest, UnknownTopLevelKey) {
     EXPECT_EQ(firstLine(error(kScene + "widht = 64\n" + kPath)),
               "2:1: widht: unknown key; valid keys here: scene, scene_index, camera, width, "
               "height, spp, seed, output, environment, environment_scale, "
-              "environment_rotation, sky, sky_illuminance, ground_reflectance, site, time, north, "
+              "environment_rotation, environment_illuminance, sky, sky_illuminance, "
+              "ground_reflectance, site, time, north, "
               "sun_direct_normal, portals, pass, luminaire");
     // A depth belongs to the path pass, not to the script.
     EXPECT_EQ(firstLine(error(kScene + "max_depth = 3\n" + kPath)).substr(0, 27),
