@@ -98,7 +98,7 @@ void render(RenderOptions& options) {
     // Refuse bad outputs and option values before spending time on loading and rendering.
     for (const std::string& output : options.outputs)
         checkOutputPath(output);
-    const ToneMapping toneMapping{options.exposure, parseToneMapOperator(options.tonemap)};
+    ToneMapping toneMapping{options.exposure, parseToneMapOperator(options.tonemap)};
     parseFilter(settings.filter);
     aovSpecs(settings.aovs);
     PassOverrides overrides;
@@ -143,6 +143,9 @@ void render(RenderOptions& options) {
     }
     for (const std::string& name : settings.aovs)
         aovs.push_back({name, run.layers.at(name)});
+    // Ward's operator adapts to the image: its world adaptation luminance.
+    if (toneMapping.op == ToneMapOperator::Ward)
+        toneMapping.adaptationLuminance = wardAdaptationLuminance(run.layers.at("beauty"));
     for (const std::string& output : options.outputs) {
         const size_t replaced =
             writeImage(output, run.layers.at("beauty"), aovs, metadata, toneMapping);
@@ -225,7 +228,9 @@ Command addRenderCommand(CLI::App& app) {
         ->capture_default_str();
     command
         ->add_option("--tonemap", options->tonemap,
-                     "Tone-mapping operator for 8-bit output: clamp, reinhard, aces")
+                     "Tone-mapping operator for 8-bit output: clamp, reinhard, aces, ward (Ward "
+                     "1994: a scale factor from the image's adaptation luminance, display "
+                     "white at 100 cd/m²)")
         ->capture_default_str();
     command
         ->add_option("--noise-threshold", s.noiseThreshold,

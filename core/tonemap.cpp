@@ -3,6 +3,7 @@
 #include "core/errors.h"
 #include "core/texture.h"
 
+#include <algorithm>
 #include <cmath>
 #include <initializer_list>
 #include <string>
@@ -26,6 +27,8 @@ float applyOperator(ToneMapOperator op, float x) {
             constexpr float a = 2.51f, b = 0.03f, c = 2.43f, d = 0.59f, e = 0.14f;
             return glm::clamp((x * (a * x + b)) / (x * (c * x + d) + e), 0.0f, 1.0f);
         }
+        case ToneMapOperator::Ward:  // scaled in apply(): clamp to the display's range
+            return glm::clamp(x, 0.0f, 1.0f);
     }
     return 0.0f;
 }
@@ -33,14 +36,14 @@ float applyOperator(ToneMapOperator op, float x) {
 }  // namespace
 
 ToneMapOperator parseToneMapOperator(std::string_view name) {
-    for (ToneMapOperator op :
-         {ToneMapOperator::Clamp, ToneMapOperator::Reinhard, ToneMapOperator::Aces}) {
+    for (ToneMapOperator op : {ToneMapOperator::Clamp, ToneMapOperator::Reinhard,
+                               ToneMapOperator::Aces, ToneMapOperator::Ward}) {
         if (name == toneMapOperatorName(op)) {
             return op;
         }
     }
     throw UsageError("--tonemap: unknown tone-mapping operator \"" + std::string(name) +
-                     "\" (valid: clamp, reinhard, aces)");
+                     "\" (valid: clamp, reinhard, aces, ward)");
 }
 
 std::string_view toneMapOperatorName(ToneMapOperator op) {
@@ -51,17 +54,44 @@ std::string_view toneMapOperatorName(ToneMapOperator op) {
             return "reinhard";
         case ToneMapOperator::Aces:
             return "aces";
+        case ToneMapOperator::Ward:
+            return "ward";
     }
     return "clamp";
 }
 
 Color ToneMapping::apply(const Color& linear) const {
-    const float scale = std::exp2(exposure);
+    const float ward = op == ToneMapOperator::Ward
+                           ? wardScaleFactor(adaptationLuminance) / kWardDisplayMaximum
+                           : 1.0f;
+    const float scale = std::exp2(exposure) * ward;
     Color out;
     for (int c = 0; c < 3; ++c) {
         out[c] = applyOperator(op, glm::max(linear[c] * scale, 0.0f));
     }
     return out;
+}
+
+float wardScaleFactor(float adaptationLuminance) {
+    const double display = std::pow(0.5 * double(kWardDisplayMaximum), 0.4);
+    const double world = std::pow(std::max(double(adaptationLuminance), 0.0), 0.4);
+    return float(std::pow((1.219 + display) / (1.219 + world), 2.5));
+}
+
+float wardAdaptationLuminance(const Image& image) {
+    double sum = 0.0;
+    size_t count = 0;
+    for (int y = 0; y < image.height(); ++y)
+        for (int x = 0; x < image.width(); ++x) {
+            const Color c(image.at(x, y, 0), image.at(x, y, std::min(1, image.channels() - 1)),
+                          image.at(x, y, std::min(2, image.channels() - 1)));
+            const float Y = luminance(glm::max(c, Color(0.0f)));
+            if (!std::isfinite(Y))
+                continue;
+            sum += std::log(1e-4 + double(Y));
+            ++count;
+        }
+    return count > 0 ? float(std::exp(sum / double(count))) : 0.0f;
 }
 
 uint8_t encodeSrgb8(float displayLinear) {

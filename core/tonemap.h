@@ -2,6 +2,7 @@
 // Float (EXR) outputs stay scene-linear and are never tone-mapped.
 #pragma once
 
+#include "core/image.h"
 #include "core/math.h"
 
 #include <cstdint>
@@ -9,20 +10,39 @@
 
 namespace penumbra {
 
-enum class ToneMapOperator { Clamp, Reinhard, Aces };
+enum class ToneMapOperator { Clamp, Reinhard, Aces, Ward };
 
-// "clamp", "reinhard" or "aces"; anything else throws UsageError listing these.
+// "clamp", "reinhard", "aces" or "ward"; anything else throws UsageError listing these.
 ToneMapOperator parseToneMapOperator(std::string_view name);
 std::string_view toneMapOperatorName(ToneMapOperator op);
+
+// Ward 1994 ("A contrast-based scalefactor for luminance display", Graphics Gems IV): the
+// display's maximum luminance, cd/m², that its scale factor maps to display white.
+inline constexpr float kWardDisplayMaximum = 100.0f;
 
 struct ToneMapping {
     float exposure = 0.0f;  // EV: linear values are multiplied by 2^exposure first
     ToneMapOperator op = ToneMapOperator::Clamp;
+    // Ward: the world adaptation luminance L_wa (cd/m²), the log-average of the image's
+    // (wardAdaptationLuminance()); the default is the display's own adaptation, which maps
+    // cd/m² to display luminance one to one.
+    float adaptationLuminance = 0.5f * kWardDisplayMaximum;
 
     // Scene-linear colour (cd/m²; 1 maps to display white under clamp) to display-linear values
     // in [0, 1], per channel. Negative inputs count as 0.
     Color apply(const Color& linear) const;
 };
+
+// Ward's scale factor m, display luminance over world luminance: at world adaptation L_wa a
+// just-noticeable difference of luminance maps to one at the display's adaptation,
+// Ld_max / 2 (Ward 1994, after Blackwell's contrast sensitivity):
+//     m = [(1.219 + (Ld_max / 2)^0.4) / (1.219 + L_wa^0.4)]^2.5,
+// and the display value is m L / Ld_max.
+float wardScaleFactor(float adaptationLuminance);
+
+// The world adaptation luminance of an image for Ward's operator: the log-average of its pixels'
+// Rec. 709 luminance, exp(mean(log(1e-4 + Y))) (the floor keeps black pixels finite).
+float wardAdaptationLuminance(const Image& image);
 
 // 8-bit code value of a display-linear value in [0, 1] (clamped): the IEC 61966-2-1 sRGB
 // encoding, then rounding to the nearest of 0..255.

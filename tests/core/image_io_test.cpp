@@ -138,15 +138,35 @@ TEST(ToneMapping, OperatorsAndSrgbEncodingGiveKnownCodeValues) {
     EXPECT_EQ(ToneMapping{}.apply(Color(-1.0f)).x, 0.0f);
 }
 
+// Ward 1994: at the display's own adaptation (L_wa = Ld_max / 2 = 50 cd/m²) the scale factor is
+// 1 and cd/m² map to display luminance one to one (25 cd/m² shows at 0.25 of 100); in a dim world
+// (L_wa = 1 cd/m²) m = [(1.219 + 50^0.4) / (1.219 + 1)]^2.5 = (6.0008 / 2.219)^2.5 = 12.03 by
+// hand, so 1 cd/m² shows at 0.1203. The adaptation of an image of Y = 1 and Y = 100 is their
+// geometric mean, 10.
+TEST(ToneMapping, WardScalesByTheAdaptationLuminance) {
+    ToneMapping ward{0.0f, ToneMapOperator::Ward};
+    EXPECT_NEAR(ward.apply(Color(25.0f)).x, 0.25f, 1e-6f);
+    ward.adaptationLuminance = 1.0f;
+    EXPECT_NEAR(ward.apply(Color(1.0f)).x, 0.1203f, 2e-4f);
+    EXPECT_EQ(ward.apply(Color(1000.0f)).x, 1.0f);
+    Image image(2, 1, {"R", "G", "B"});
+    for (int c = 0; c < 3; ++c) {
+        image.at(0, 0, c) = 1.0f;
+        image.at(1, 0, c) = 100.0f;
+    }
+    EXPECT_NEAR(wardAdaptationLuminance(image), 10.0f, 1e-3f);
+}
+
 TEST(ToneMapping, ParsesNamesAndListsThemOnError) {
     EXPECT_EQ(parseToneMapOperator("clamp"), ToneMapOperator::Clamp);
     EXPECT_EQ(parseToneMapOperator("reinhard"), ToneMapOperator::Reinhard);
     EXPECT_EQ(parseToneMapOperator("aces"), ToneMapOperator::Aces);
+    EXPECT_EQ(parseToneMapOperator("ward"), ToneMapOperator::Ward);
     try {
         parseToneMapOperator("filmic");
         FAIL() << "expected UsageError";
     } catch (const UsageError& e) {
-        EXPECT_NE(std::string(e.what()).find("clamp, reinhard, aces"), std::string::npos);
+        EXPECT_NE(std::string(e.what()).find("clamp, reinhard, aces, ward"), std::string::npos);
     }
 }
 
