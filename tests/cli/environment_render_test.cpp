@@ -4,6 +4,7 @@
 // and the ways of attaching one (option, pass script, a converted scene's extras).
 #include "core/image_io.h"
 #include "tests/support/cli_runner.h"
+#include "tests/support/csv_table.h"
 #include "tests/support/gltf_builder.h"
 
 #include <gtest/gtest.h>
@@ -11,7 +12,6 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 
 namespace penumbra::test {
 namespace {
@@ -300,14 +300,9 @@ TEST(EnvironmentInput, IlluminanceSetsTheScale) {
                                          " --quiet --spp 4096 --environment " +
                                          dir.file("sky.exr") + " --environment-illuminance 5000");
     ASSERT_EQ(result.status, 0) << result.output;
-    std::ifstream in(dir.file("out.csv"));
-    std::string line;
-    std::getline(in, line);
-    std::getline(in, line);
-    std::vector<double> values;
-    std::stringstream fields(line);
-    for (std::string field; std::getline(fields, field, ',');)
-        values.push_back(std::stod(field));
+    const CsvTable table = readCsvTable(dir.file("out.csv"));
+    ASSERT_EQ(table.rows.size(), 1u);
+    const std::vector<double>& values = table.rows[0];
     ASSERT_EQ(values.size(), 8u);
     // 4 standard errors, plus the midpoint rule's error on the bilinear map (well under 0.1 %).
     EXPECT_NEAR(values[6], 5000.0, 4.0 * values[7] + 5.0);

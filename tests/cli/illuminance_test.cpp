@@ -3,6 +3,7 @@
 // and the refusal of bad input.
 #include "core/image_io.h"
 #include "tests/support/cli_runner.h"
+#include "tests/support/csv_table.h"
 #include "tests/support/gltf_builder.h"
 
 #include <gtest/gtest.h>
@@ -34,18 +35,11 @@ void writeText(const std::string& path, const std::string& text) {
 
 // The rows of an output file, after checking its header.
 std::vector<Reading> readResults(const std::string& path) {
-    std::ifstream in(path);
-    std::string line;
-    std::getline(in, line);
-    EXPECT_EQ(line, "x,y,z,nx,ny,nz,illuminance_lux,stderr_lux");
+    const CsvTable table = readCsvTable(path);
+    EXPECT_EQ(table.header, "x,y,z,nx,ny,nz,illuminance_lux,stderr_lux");
     std::vector<Reading> rows;
-    while (std::getline(in, line)) {
-        std::stringstream fields(line);
-        std::string field;
-        std::vector<double> values;
-        while (std::getline(fields, field, ','))
-            values.push_back(std::stod(field));
-        EXPECT_EQ(values.size(), 8u) << line;
+    for (const std::vector<double>& values : table.rows) {
+        EXPECT_EQ(values.size(), 8u);
         if (values.size() != 8)
             continue;
         rows.push_back({{values.begin(), values.begin() + 6}, values[6], values[7]});
@@ -280,17 +274,12 @@ TEST(Illuminance, DaylightFactorUnderARoofLight) {
         dir.file("out.csv") + " --quiet --sky cie-overcast --sky-illuminance 10000 --spp 32768 " +
         "--daylight-factor");
     ASSERT_EQ(result.status, 0) << result.output;
-    std::ifstream in(dir.file("out.csv"));
-    std::string header, row;
-    std::getline(in, header);
-    std::getline(in, row);
-    EXPECT_EQ(header,
+    const CsvTable table = readCsvTable(dir.file("out.csv"));
+    EXPECT_EQ(table.header,
               "x,y,z,nx,ny,nz,illuminance_lux,stderr_lux,daylight_factor_percent,"
               "stderr_percent");
-    std::vector<double> values;
-    std::stringstream fields(row);
-    for (std::string field; std::getline(fields, field, ',');)
-        values.push_back(std::stod(field));
+    ASSERT_EQ(table.rows.size(), 1u);
+    const std::vector<double>& values = table.rows[0];
     ASSERT_EQ(values.size(), 10u);
 
     constexpr int kCells = 400;
@@ -321,13 +310,9 @@ TEST(Illuminance, DaylightFactorUnderARoofLight) {
         dir.file("portal.csv") + " --quiet --sky cie-overcast --sky-illuminance 10000 --spp 4096 " +
         "--portal -0.5,3,-0.5,0.5,3,-0.5,-0.5,3,0.5");
     ASSERT_EQ(portal.status, 0) << portal.output;
-    std::ifstream portalIn(dir.file("portal.csv"));
-    std::getline(portalIn, header);
-    std::getline(portalIn, row);
-    std::vector<double> withPortal;
-    std::stringstream portalFields(row);
-    for (std::string field; std::getline(portalFields, field, ',');)
-        withPortal.push_back(std::stod(field));
+    const CsvTable portalTable = readCsvTable(dir.file("portal.csv"));
+    ASSERT_EQ(portalTable.rows.size(), 1u);
+    const std::vector<double>& withPortal = portalTable.rows[0];
     ASSERT_EQ(withPortal.size(), 8u);
     std::printf("[ measured ] with a portal, 4096 samples: E = %.3f +- %.3f lux\n", withPortal[6],
                 withPortal[7]);

@@ -4,6 +4,7 @@
 // orientation (nadir along the node's -Z, C0 along +X, C90 along +Y); its light in every pipeline;
 // bad profiles refused at their place.
 #include "tests/support/cli_runner.h"
+#include "tests/support/csv_table.h"
 #include "tests/support/gltf_builder.h"
 
 #include <gtest/gtest.h>
@@ -70,6 +71,14 @@ struct Result {
     int status = -1;
 };
 
+// The illuminance_lux column (the seventh) of an output file.
+std::vector<double> luxColumn(const std::string& path) {
+    std::vector<double> lux;
+    for (const std::vector<double>& row : readCsvTable(path).rows)
+        lux.push_back(row.size() > 6 ? row[6] : -1.0);
+    return lux;
+}
+
 // `penumbra illuminance` at upward sensors on the floor.
 Result illuminance(const GltfBuilder& scene, const TempDir& dir, const std::vector<Vec3>& points,
                    const std::string& options = "") {
@@ -81,18 +90,7 @@ Result illuminance(const GltfBuilder& scene, const TempDir& dir, const std::vect
     const CliResult run =
         runPenumbra("illuminance " + dir.file("scene.gltf") + " --points " +
                     dir.file("points.csv") + " -o " + dir.file("out.csv") + " --spp 4 " + options);
-    Result result{{}, run.output, run.status};
-    std::ifstream in(dir.file("out.csv"));
-    std::string line;
-    std::getline(in, line);
-    while (std::getline(in, line)) {
-        std::stringstream fields(line);
-        std::string field;
-        for (int i = 0; i < 7; ++i)
-            std::getline(fields, field, ',');
-        result.lux.push_back(std::stod(field));
-    }
-    return result;
+    return {luxColumn(dir.file("out.csv")), run.output, run.status};
 }
 
 // E = I(gamma, C) cos(gamma) / d² = I cos³(gamma) / h² at points on the profile's grid, in four
@@ -176,17 +174,10 @@ TEST(Luminaire, APassScriptPlacesThem) {
         runPenumbra("illuminance " + dir.file("scene.toml") + " --points " +
                     dir.file("points.csv") + " -o " + dir.file("out.csv") + " --spp 4 --quiet");
     ASSERT_EQ(run.status, 0) << run.output;
-    std::ifstream in(dir.file("out.csv"));
-    std::string line;
-    std::getline(in, line);
-    for (size_t i = 0; i < expected.size(); ++i) {
-        ASSERT_TRUE(std::getline(in, line));
-        std::stringstream fields(line);
-        std::string field;
-        for (int k = 0; k < 7; ++k)
-            std::getline(fields, field, ',');
-        EXPECT_NEAR(std::stod(field), expected[i], 0.005 * expected[i]) << "point " << i;
-    }
+    const std::vector<double> lux = luxColumn(dir.file("out.csv"));
+    ASSERT_EQ(lux.size(), expected.size());
+    for (size_t i = 0; i < expected.size(); ++i)
+        EXPECT_NEAR(lux[i], expected[i], 0.005 * expected[i]) << "point " << i;
 
     // The script's passes are the pipeline: --pipeline is refused with it.
     const CliResult both =
@@ -229,21 +220,11 @@ TEST(Luminaire, ColourAndDefaultAim) {
         runPenumbra("illuminance " + dir.file("scene.gltf") + " --points " +
                     dir.file("points.csv") + " -o " + dir.file("out.csv") + " --spp 4");
     ASSERT_EQ(run.status, 0) << run.output;
-    std::ifstream in(dir.file("out.csv"));
-    std::string header, front, back;
-    std::getline(in, header);
-    std::getline(in, front);
-    std::getline(in, back);
+    const std::vector<double> lux = luxColumn(dir.file("out.csv"));
+    ASSERT_EQ(lux.size(), 2u);
     const double Y = 0.2126 * colour.r + 0.7152 * colour.g + 0.0722 * colour.b;
-    const auto lux = [](const std::string& row) {
-        std::stringstream fields(row);
-        std::string field;
-        for (int i = 0; i < 7; ++i)
-            std::getline(fields, field, ',');
-        return std::stod(field);
-    };
-    EXPECT_NEAR(lux(front), 1000.0 * Y, 1e-3 * 1000.0 * Y);
-    EXPECT_EQ(lux(back), 0.0);  // behind the luminaire: gamma 180, outside its 0-90 table
+    EXPECT_NEAR(lux[0], 1000.0 * Y, 1e-3 * 1000.0 * Y);
+    EXPECT_EQ(lux[1], 0.0);  // behind the luminaire: gamma 180, outside its 0-90 table
 }
 
 // Every pipeline takes the luminaire: a white floor's radiance under it, seen from above, agrees
