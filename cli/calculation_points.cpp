@@ -83,8 +83,7 @@ std::vector<CalculationPoint> readCalculationPoints(const std::string& path) {
         const float length = glm::length(normal);
         if (!(length > 0.0f) || !std::isfinite(length))
             throw InputError(place + "the normal (nx,ny,nz) is zero: \"" + text + "\"");
-        point.sensor.p = Vec3(float(point.given[0]), float(point.given[1]), float(point.given[2]));
-        point.sensor.n = normal / length;
+        point.normal = normal / length;
         points.push_back(point);
     }
     if (points.empty())
@@ -124,8 +123,6 @@ Workplane workplaneGrid(const std::string& text) {
             const double xa = x0 + i * spacing, xb = std::min(x1, xa + spacing);
             CalculationPoint point;
             point.given = {0.5 * (xa + xb), height, 0.5 * (za + zb), 0.0, 1.0, 0.0};
-            point.sensor.p = Vec3(float(point.given[0]), float(height), float(point.given[2]));
-            point.sensor.n = Vec3(0.0f, 1.0f, 0.0f);
             grid.points.push_back(point);
         }
     }

@@ -8,7 +8,7 @@
 // the columns `daylight_factor_percent,stderr_percent` after them.
 #pragma once
 
-#include "raytrace/sensor_irradiance.h"
+#include "core/math.h"
 
 #include <array>
 #include <optional>
@@ -19,7 +19,7 @@ namespace penumbra::cli {
 
 struct CalculationPoint {
     std::array<double, 6> given{};  // x, y, z, nx, ny, nz as read, echoed in the output
-    Sensor sensor;                  // the same with a unit normal (in the file's frame)
+    Vec3 normal{0.0f, 1.0f, 0.0f};  // the given normal, of unit length
 };
 
 struct PointIlluminance {

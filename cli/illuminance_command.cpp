@@ -188,9 +188,8 @@ void measure(IlluminanceOptions& options) {
     std::vector<Sensor> sensors;
     sensors.reserve(points.size());
     for (const CalculationPoint& point : points) {
-        Sensor sensor = point.sensor;
-        sensor.p = Vec3(glm::dvec3(point.given[0], point.given[1], point.given[2]) - origin);
-        sensors.push_back(sensor);
+        const glm::dvec3 p(point.given[0], point.given[1], point.given[2]);
+        sensors.push_back(Sensor{Vec3(p - origin), point.normal});
     }
     std::vector<SensorReading> readings;
     {
