@@ -4,42 +4,18 @@
 // elements through the opening as direct light, and the window shows the sky in every pipeline.
 #include "core/image.h"
 #include "tests/support/cli_runner.h"
-#include "tests/support/gltf_builder.h"
 
 #include <gtest/gtest.h>
 
-#include <cmath>
 #include <cstdio>
+#include <string>
 
 namespace penumbra::test {
 namespace {
 
-// A room of 4 x 3 x 4 m (x in [-2, 2], y in [0, 3], z in [-2, 2]), every face turned inwards,
-// with a window of 2 x 1.5 m in its south wall (z = 2; south is +Z when north is -Z), its sill at
-// 0.75 m. A camera in the north-west corner looks at the south-east.
-GltfBuilder daylitRoom() {
-    GltfBuilder scene;
-    const int wall = scene.addMaterial({.baseColor = Color(0.6f)});
-    const int floor = scene.addMaterial({.baseColor = Color(0.3f, 0.25f, 0.2f)});
-    scene.addQuad({-2, 0, -2}, {-2, 0, 2}, {2, 0, 2}, {2, 0, -2}, floor);   // y = 0, up
-    scene.addQuad({-2, 3, -2}, {2, 3, -2}, {2, 3, 2}, {-2, 3, 2}, wall);    // y = 3, down
-    scene.addQuad({-2, 0, -2}, {2, 0, -2}, {2, 3, -2}, {-2, 3, -2}, wall);  // z = -2, +z
-    scene.addQuad({-2, 0, 2}, {-2, 0, -2}, {-2, 3, -2}, {-2, 3, 2}, wall);  // x = -2, +x
-    scene.addQuad({2, 0, -2}, {2, 0, 2}, {2, 3, 2}, {2, 3, -2}, wall);      // x = 2, -x
-    // The south wall, z = 2, facing -z, around the window x in [-1, 1], y in [0.75, 2.25].
-    scene.addQuad({2, 0, 2}, {-2, 0, 2}, {-2, 0.75f, 2}, {2, 0.75f, 2}, wall);
-    scene.addQuad({2, 2.25f, 2}, {-2, 2.25f, 2}, {-2, 3, 2}, {2, 3, 2}, wall);
-    scene.addQuad({2, 0.75f, 2}, {1, 0.75f, 2}, {1, 2.25f, 2}, {2, 2.25f, 2}, wall);
-    scene.addQuad({-1, 0.75f, 2}, {-2, 0.75f, 2}, {-2, 2.25f, 2}, {-1, 2.25f, 2}, wall);
-    // From (-1.8, 2.6, -1.8) towards the south-east floor: yaw -135 degrees about +Y, then 30
-    // degrees down.
-    const float yaw = glm::radians(-135.0f) / 2.0f, pitch = glm::radians(-30.0f) / 2.0f;
-    // The product of the two quaternions, (x, y, z, w), written out.
-    const float cy = std::cos(yaw), sy = std::sin(yaw), cp = std::cos(pitch), sp = std::sin(pitch);
-    scene.setPerspectiveCamera({-1.8f, 2.6f, -1.8f}, Vec4(cy * sp, cp * sy, -sy * sp, cy * cp),
-                               1.2f);
-    return scene;
-}
+// The room of scenes/daylit-room (its README): 4 x 3 x 4 m, a 2 x 1.5 m window in its south wall
+// (z = 2), a camera in the north-west corner looking at the south-east.
+const std::string kRoom = std::string(PENUMBRA_SOURCE_DIR) + "/scenes/daylit-room/room.gltf";
 
 // The luminance means of the image's four quadrants.
 std::array<double, 4> quadrants(const Image& image) {
@@ -57,9 +33,8 @@ std::array<double, 4> quadrants(const Image& image) {
 
 void compare(const std::string& light, const char* name) {
     TempDir dir(std::string("daylit-room-") + name);
-    daylitRoom().write(dir.file("room.gltf"));
     const auto render = [&](const std::string& pipeline, int spp, const std::string& options) {
-        return quadrants(renderImage(dir.file("room.gltf"), dir.file(pipeline + ".exr"),
+        return quadrants(renderImage(kRoom, dir.file(pipeline + ".exr"),
                                      "--quiet --width 48 --height 32 --pipeline " + pipeline +
                                          " --spp " + std::to_string(spp) + " " + light + options));
     };
