@@ -20,6 +20,7 @@ namespace penumbra::cli {
 struct PipelineRun {
     std::map<std::string, Image> layers;     // "beauty" and the AOVs; empty when stopped
     std::vector<std::string> contributions;  // the layers that sum to the beauty
+    std::vector<std::string> lightGroups;    // "light.GROUP" layers, which sum to it too
     double seconds = 0.0;                    // wall-clock time of every pass's prepare and run
     bool stopped = false;                    // `stop` ended the run before its image was formed
 };

@@ -5,6 +5,7 @@
 #include "core/errors.h"
 #include "core/film.h"
 #include "core/image_io.h"
+#include "core/light_groups.h"
 #include "core/stats.h"
 #include "core/tonemap.h"
 #include "passes/pipeline.h"
@@ -13,6 +14,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <functional>
 #include <iostream>
 #include <optional>
 #include <sstream>
@@ -30,6 +32,7 @@ struct RenderOptions {
     float exposure = 0.0f;
     std::string tonemap = "clamp";
     std::string aovList;
+    bool lightGroups = false;
 };
 
 std::vector<std::string> splitList(const std::string& list) {
@@ -67,6 +70,55 @@ void applyScript(const PassScript& script, RenderOptions& options) {
         s.seed = *script.seed;
     if (options.outputs.empty())
         options.outputs = script.outputs;
+}
+
+// Renders `scene` once per light group (core/light_groups.h), each group alone with a pipeline
+// of its own from `makePipeline`, at `settings` with an equal share of the time limit: the run's
+// layers are the sums of the groups' (beauty, light-path components, passes' contributions and
+// samples per pixel; the other AOVs, which do not depend on the light, are the first group's),
+// and a layer "light.GROUP" per group, the group's beauty.
+// `report` is called after each group's run with its pipeline, settings and "GROUP: ".
+PipelineRun renderLightGroups(
+    const Scene& scene, const Camera& camera, const RenderSettings& settings,
+    const std::function<Pipeline()>& makePipeline,
+    const std::function<void(const Pipeline&, const RenderSettings&, const std::string&)>& report) {
+    const std::vector<LightGroup> groups = lightGroups(scene.description());
+    if (groups.empty()) {
+        throw UsageError(scene.description().file +
+                         ": --light-groups: the scene has no light source to split into groups");
+    }
+    RenderSettings groupSettings = settings;
+    groupSettings.timeLimit = settings.timeLimit / double(groups.size());
+    PipelineRun sum;
+    for (size_t g = 0; g < groups.size(); ++g) {
+        const LightGroup& group = groups[g];
+        if (!settings.quiet) {
+            std::cerr << "penumbra: light group " << g + 1 << " of " << groups.size() << ": "
+                      << group.name << "\n";
+        }
+        const Scene lit(litOnlyBy(scene.description(), group));
+        const SceneContents contents = analyseScene(lit);
+        Pipeline pipeline = makePipeline();
+        planForScene(pipeline, contents);
+        PipelineRun run = runPipeline(pipeline, lit, contents, camera, groupSettings);
+        report(pipeline, groupSettings, group.name + ": ");
+        const std::string layer = "light." + group.name;
+        if (g == 0) {
+            sum = run;
+        } else {
+            for (auto& [name, image] : sum.layers) {
+                const bool additive = name == "beauty" || name == "spp" || isComponentAov(name) ||
+                                      std::find(sum.contributions.begin(), sum.contributions.end(),
+                                                name) != sum.contributions.end();
+                if (additive)
+                    addPixels(image, run.layers.at(name));
+            }
+            sum.seconds += run.seconds;
+        }
+        sum.layers[layer] = run.layers.at("beauty");
+        sum.lightGroups.push_back(layer);
+    }
+    return sum;
 }
 
 // The scene's camera; a bad camera name from a script is reported at its place in the script.
@@ -124,16 +176,46 @@ void render(RenderOptions& options) {
             std::cerr << "penumbra: plan: " << decision << "\n";
     }
 
-    PipelineRun run = runPipeline(pipeline, *scene, contents, camera, settings);
+    // What each pipeline that ran reports, read while its scene and settings still exist: the
+    // image's metadata (the first run's) and the passes' stats.
+    std::optional<ImageMetadata> metadata;
+    std::vector<std::string> statLines;
+    const auto report = [&](const Pipeline& ran, const RenderSettings& ranSettings,
+                            const std::string& group) {
+        if (!metadata)
+            metadata = renderMetadata(ran, ranSettings, 0.0, options.scene.path, cameraDesc.name);
+        for (size_t i = 0; i < ran.passes().size(); ++i) {
+            if (ran.skipped(i))
+                continue;
+            const Pass& pass = *ran.passes()[i];
+            for (const auto& [key, value] : pass.stats())
+                statLines.push_back(group + pass.type() + " " + key + ": " + value);
+        }
+    };
+    PipelineRun run;
+    if (options.lightGroups) {
+        const auto makePipeline = [&] {
+            return script ? makeScriptPipeline(*script, overrides)
+                          : makePipelinePreset(options.pipeline, settings);
+        };
+        run = renderLightGroups(*scene, camera, settings, makePipeline, report);
+    } else {
+        run = runPipeline(pipeline, *scene, contents, camera, settings);
+        report(pipeline, settings, "");
+    }
     const double seconds = secondsSince(start);
-
-    ImageMetadata metadata =
-        renderMetadata(pipeline, settings, seconds, options.scene.path, cameraDesc.name);
+    metadata->set("penumbra:seconds", static_cast<float>(seconds));
     // A script's passes record their own depth (penumbra:path.max_depth).
     if (script)
-        metadata.set("penumbra:script", script->file);
+        metadata->set("penumbra:script", script->file);
     else
-        metadata.set("penumbra:max_depth", settings.maxDepth);
+        metadata->set("penumbra:max_depth", settings.maxDepth);
+    if (options.lightGroups) {
+        std::string groups;
+        for (const std::string& layer : run.lightGroups)
+            groups += (groups.empty() ? "" : " ") + layer.substr(layer.find('.') + 1);
+        metadata->set("penumbra:light_groups", groups);
+    }
     // Each pass's contribution is a layer of its own when there are several (they sum to the
     // beauty), then the AOVs.
     std::vector<NamedLayer> aovs;
@@ -143,12 +225,14 @@ void render(RenderOptions& options) {
     }
     for (const std::string& name : settings.aovs)
         aovs.push_back({name, run.layers.at(name)});
+    for (const std::string& name : run.lightGroups)
+        aovs.push_back({name, run.layers.at(name)});
     // Ward's operator adapts to the image: its world adaptation luminance.
     if (toneMapping.op == ToneMapOperator::Ward)
         toneMapping.adaptationLuminance = wardAdaptationLuminance(run.layers.at("beauty"));
     for (const std::string& output : options.outputs) {
         const size_t replaced =
-            writeImage(output, run.layers.at("beauty"), aovs, metadata, toneMapping);
+            writeImage(output, run.layers.at("beauty"), aovs, *metadata, toneMapping);
         // The film drops non-finite samples, so this is a bug if it happens: say so.
         if (replaced > 0) {
             std::cerr << "penumbra: warning: " << replaced << " non-finite values written as 0 in "
@@ -161,13 +245,8 @@ void render(RenderOptions& options) {
             std::cerr << "penumbra: wrote " << output << "\n";
         std::cerr << "penumbra: " << size.x << "x" << size.y << ", pipeline " << pipeline.name()
                   << ", " << seconds << " s\n";
-        for (size_t i = 0; i < pipeline.passes().size(); ++i) {
-            if (pipeline.skipped(i))
-                continue;
-            const Pass& pass = *pipeline.passes()[i];
-            for (const auto& [key, value] : pass.stats())
-                std::cerr << "  " << pass.type() << " " << key << ": " << value << "\n";
-        }
+        for (const std::string& line : statLines)
+            std::cerr << "  " << line << "\n";
     }
 }
 
@@ -242,6 +321,11 @@ Command addRenderCommand(CLI::App& app) {
                         "Extra EXR layers, comma separated: albedo, normal, depth, spp, and the "
                         "light-path components emission, direct, indirect, specular (which sum "
                         "to the beauty; `components` = all four)");
+    command->add_flag("--light-groups", options->lightGroups,
+                      "Render each light source group alone and add a layer light.GROUP per "
+                      "group (light-NAME, luminaire-NAME, emissive-MATERIAL, sky or "
+                      "environment, sun); the beauty is their sum. Costs one render per group: "
+                      "--time-limit is shared among them");
     return [options] { render(*options); };
 }
 

@@ -60,4 +60,16 @@ class Image {
     std::vector<float> pixels_;
 };
 
+// sum += image, pixel by pixel; std::logic_error when their sizes or channel counts differ.
+inline void addPixels(Image& sum, const Image& image) {
+    if (sum.width() != image.width() || sum.height() != image.height() ||
+        sum.channels() != image.channels()) {
+        throw std::logic_error("addPixels: an image of another size or channels");
+    }
+    const auto in = image.pixels();
+    const auto out = sum.pixels();
+    for (size_t i = 0; i < out.size(); ++i)
+        out[i] += in[i];
+}
+
 }  // namespace penumbra

@@ -168,6 +168,8 @@ std::string GltfBuilder::json() const {
     for (const TestLight& light : lights_) {
         json l = {
             {"type", light.type}, {"color", vec(light.color)}, {"intensity", light.intensity}};
+        if (!light.name.empty())
+            l["name"] = light.name;
         if (light.type == "spot") {
             l["spot"] = {{"innerConeAngle", light.innerConeAngle},
                          {"outerConeAngle", light.outerConeAngle}};

@@ -21,6 +21,7 @@ struct TestMaterial {
 
 struct TestLight {
     std::string type = "point";  // point, spot, directional
+    std::string name{};          // written when not empty
     Color color{1.0f};
     float intensity = 1.0f;
     Vec3 position{0.0f};

@@ -1,0 +1,104 @@
+#include "core/light_groups.h"
+
+#include <algorithm>
+#include <cctype>
+
+namespace penumbra {
+
+namespace {
+
+std::string groupName(const std::string& kind, const std::string& source) {
+    std::string name = kind + "-" + source;
+    for (char& c : name) {
+        if (!std::isalnum(static_cast<unsigned char>(c)) && c != '-' && c != '_')
+            c = '_';
+    }
+    return name;
+}
+
+// The group called `name`, added at the end when there is none yet.
+LightGroup& groupCalled(std::vector<LightGroup>& groups, const std::string& name) {
+    const auto found = std::find_if(groups.begin(), groups.end(),
+                                    [&name](const LightGroup& g) { return g.name == name; });
+    if (found != groups.end())
+        return *found;
+    LightGroup group;
+    group.name = name;
+    groups.push_back(std::move(group));
+    return groups.back();
+}
+
+bool contains(const std::vector<size_t>& indices, size_t i) {
+    return std::find(indices.begin(), indices.end(), i) != indices.end();
+}
+
+// A sky made by penumbra (--sky, or the ground's glow under a sun alone) is named "sky"; an
+// image the user gave, "environment".
+std::string mapGroupName(const EnvironmentDesc& environment) {
+    const std::string& file = environment.file;
+    const bool sky = file.rfind("sky ", 0) == 0 || file.rfind("no sky", 0) == 0;
+    return sky ? "sky" : "environment";
+}
+
+bool mapIsBlack(const EnvironmentDesc& environment) {
+    const auto pixels = environment.radiance.pixels();
+    return std::all_of(pixels.begin(), pixels.end(), [](float v) { return v == 0.0f; });
+}
+
+}  // namespace
+
+std::vector<LightGroup> lightGroups(const SceneDescription& scene) {
+    std::vector<LightGroup> groups;
+    for (size_t i = 0; i < scene.lights.size(); ++i)
+        groupCalled(groups, groupName("light", scene.lights[i].name)).punctualLights.push_back(i);
+    for (size_t i = 0; i < scene.luminaires.size(); ++i) {
+        groupCalled(groups, groupName("luminaire", scene.luminaires[i].name))
+            .luminaires.push_back(i);
+    }
+    for (size_t i = 0; i < scene.materials.size(); ++i) {
+        const Material& material = scene.materials[i];
+        if (!material.isEmissive())
+            continue;
+        const std::string source =
+            material.name.empty() ? "material_" + std::to_string(i) : material.name;
+        groupCalled(groups, groupName("emissive", source)).materials.push_back(i);
+    }
+    if (scene.environment) {
+        if (!mapIsBlack(*scene.environment))
+            groupCalled(groups, mapGroupName(*scene.environment)).environmentMap = true;
+        if (scene.environment->sun && scene.environment->sun->directNormalIlluminance > 0.0f)
+            groupCalled(groups, "sun").sun = true;
+    }
+    return groups;
+}
+
+SceneDescription litOnlyBy(const SceneDescription& scene, const LightGroup& group) {
+    SceneDescription lit = scene;
+    lit.lights.clear();
+    for (const size_t i : group.punctualLights)
+        lit.lights.push_back(scene.lights.at(i));
+    lit.luminaires.clear();
+    for (const size_t i : group.luminaires)
+        lit.luminaires.push_back(scene.luminaires.at(i));
+    for (size_t i = 0; i < lit.materials.size(); ++i) {
+        if (!contains(group.materials, i)) {
+            lit.materials[i].emissive = Color(0.0f);
+            lit.materials[i].emissiveTexture = TextureRef{};
+        }
+    }
+    if (lit.environment) {
+        if (!group.environmentMap && !group.sun) {
+            lit.environment.reset();
+        } else {
+            if (!group.environmentMap) {
+                for (float& v : lit.environment->radiance.pixels())
+                    v = 0.0f;
+            }
+            if (!group.sun)
+                lit.environment->sun.reset();
+        }
+    }
+    return lit;
+}
+
+}  // namespace penumbra
