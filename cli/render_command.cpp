@@ -107,7 +107,8 @@ PipelineRun renderLightGroups(
             sum = run;
         } else {
             for (auto& [name, image] : sum.layers) {
-                const bool additive = name == "beauty" || name == "spp" || isComponentAov(name) ||
+                const bool additive = name == "beauty" || name == "spp" || name == "luminance" ||
+                                      isComponentAov(name) ||
                                       std::find(sum.contributions.begin(), sum.contributions.end(),
                                                 name) != sum.contributions.end();
                 if (additive)

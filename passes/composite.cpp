@@ -1,8 +1,10 @@
 #include "passes/composite.h"
 
+#include "core/image_luminance.h"
 #include "core/stats.h"
 #include "raytrace/image_renderer.h"
 
+#include <algorithm>
 #include <chrono>
 
 namespace penumbra {
@@ -15,6 +17,8 @@ void compositeContributions(PassContext& context) {
     // Requested layers no pass made (every image-forming pass skipped) are black, so that the
     // output has every layer it was asked for.
     const std::vector<std::string>& aovs = s.aovs;
+    if (std::find(aovs.begin(), aovs.end(), "luminance") != aovs.end())
+        context.layers["luminance"] = luminanceImage(context.layers.at("beauty"));
     const std::vector<AovSpec> specs = aovSpecs(aovs);
     for (size_t a = 0; a < aovs.size(); ++a) {
         if (!context.layers.contains(aovs[a]))

@@ -28,8 +28,14 @@ void publishRenderedImage(PassContext& context, const ImageRenderer& renderer,
 void SamplingPass::prepare(PassContext& context) {
     // The estimator first: it may find that there is nothing to correct (correctionSigma()).
     estimator_ = makeEstimator(context);
+    const Scene& scene = context.scene;
+    const RadianceEstimator& estimator = estimator_;
+    const SurfaceIrradiance surfaceIrradiance =
+        [&scene, &estimator](const Sensor& sensor, Sampler& sampler, PathCounters& counters) {
+            return sampleSensorIrradiance(scene, estimator, sensor, sampler, counters);
+        };
     renderer_ = std::make_unique<ImageRenderer>(context.camera, context.settings, estimator_,
-                                                correctionSigma());
+                                                correctionSigma(), surfaceIrradiance);
     start_ = std::chrono::steady_clock::now();
     // With a time limit the bar measures the time left (in milliseconds), else samples.
     timed_ = context.deadline && usesTimeLimit();

@@ -47,14 +47,18 @@ bool isComponentAov(const std::string& name) {
     return componentIndex(name) >= 0;
 }
 
+bool isDerivedAov(const std::string& name) {
+    return name == "luminance";
+}
+
 std::vector<AovSpec> aovSpecs(const std::vector<std::string>& names) {
     std::vector<AovSpec> specs;
     for (const std::string& name : names) {
         if (name != "albedo" && name != "normal" && name != "depth" && name != "spp" &&
-            !isComponentAov(name)) {
+            name != "illuminance" && !isDerivedAov(name) && !isComponentAov(name)) {
             throw UsageError("--aov: unknown layer '" + name +
-                             "'; valid: albedo, normal, depth, spp, emission, direct, indirect, "
-                             "specular, components (the last four)");
+                             "'; valid: albedo, normal, depth, spp, illuminance, luminance, "
+                             "emission, direct, indirect, specular, components (the last four)");
         }
         if (name == "spp") {
             specs.push_back({name, {"N"}});
@@ -62,6 +66,8 @@ std::vector<AovSpec> aovSpecs(const std::vector<std::string>& names) {
             specs.push_back({name, {"X", "Y", "Z"}});
         } else if (name == "depth") {
             specs.push_back({name, {"Z"}});
+        } else if (name == "luminance") {
+            specs.push_back({name, {"Y"}});
         } else {
             specs.push_back({name, {"R", "G", "B"}});
         }
@@ -70,6 +76,12 @@ std::vector<AovSpec> aovSpecs(const std::vector<std::string>& names) {
 }
 
 namespace {
+
+// The AOVs a renderer's film holds: all but the derived ones.
+std::vector<std::string> rendererAovs(std::vector<std::string> names) {
+    std::erase_if(names, isDerivedAov);
+    return names;
+}
 
 Vec3 aovValue(const std::string& name, const SurfaceGuide& hit) {
     if (!hit.valid)
@@ -84,16 +96,23 @@ Vec3 aovValue(const std::string& name, const SurfaceGuide& hit) {
 }  // namespace
 
 ImageRenderer::ImageRenderer(const Camera& camera, const RenderSettings& settings,
-                             RadianceEstimator estimator, float correctionSigma)
+                             RadianceEstimator estimator, float correctionSigma,
+                             SurfaceIrradiance surfaceIrradiance)
     : camera_(camera),
       settings_(settings),
       estimator_(std::move(estimator)),
+      surfaceIrradiance_(std::move(surfaceIrradiance)),
       filter_(parseFilter(settings.filter)),
-      aovNames_(settings.aovs),
+      aovNames_(rendererAovs(settings.aovs)),
       correctionSigma_(correctionSigma),
       film_(settings.width, settings.height, filmLayers()),
       converged_(static_cast<size_t>(settings.width) * settings.height, 0),
-      activePixels_(converged_.size()) {}
+      activePixels_(converged_.size()) {
+    const bool illuminance =
+        std::find(aovNames_.begin(), aovNames_.end(), "illuminance") != aovNames_.end();
+    if (illuminance && !surfaceIrradiance_)
+        throw std::logic_error("ImageRenderer: the illuminance AOV needs a SurfaceIrradiance");
+}
 
 std::vector<AovSpec> ImageRenderer::filmLayers() {
     std::vector<AovSpec> layers = aovSpecs(aovNames_);
@@ -195,6 +214,17 @@ Image ImageRenderer::resolveAov(size_t aov) const {
     return image;
 }
 
+Color ImageRenderer::irradianceAt(const FirstHit& firstHit, Sampler& sampler,
+                                  PathCounters& counters) const {
+    if (!firstHit.valid)
+        return Color(0.0f);
+    const Color E =
+        surfaceIrradiance_(Sensor{firstHit.position, firstHit.viewerSideNormal}, sampler, counters);
+    // The film drops a sample whose radiance is not finite; a non-finite irradiance is dropped
+    // from its layer the same way, as 0 (a bug, as there).
+    return isFinite(E) ? E : Color(0.0f);
+}
+
 void ImageRenderer::renderSamplePass() {
     struct Counts {
         uint64_t rays = 0, dropped = 0, converged = 0;
@@ -235,6 +265,9 @@ void ImageRenderer::renderSamplePass() {
                         if (component >= 0)
                             film_.addAov(pixel, static_cast<int>(a),
                                          components.components[static_cast<size_t>(component)]);
+                        else if (aovNames_[a] == "illuminance")
+                            film_.addAov(pixel, static_cast<int>(a),
+                                         irradianceAt(firstHit, sampler, counters));
                         else if (aovNames_[a] != "spp")
                             film_.addAov(pixel, static_cast<int>(a),
                                          aovValue(aovNames_[a], firstHit));

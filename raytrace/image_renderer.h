@@ -8,6 +8,7 @@
 #include "core/film.h"
 #include "core/render_settings.h"
 #include "raytrace/radiance_estimator.h"
+#include "raytrace/sensor_irradiance.h"
 
 #include <atomic>
 #include <chrono>
@@ -19,12 +20,20 @@ namespace penumbra {
 // AOV names as the user lists them, with "components" standing for the four light-path
 // components (core/path_components.h) in their order; repeats are dropped.
 std::vector<std::string> expandAovNames(const std::vector<std::string>& names);
-// The film layers for AOV names (albedo, normal, depth, spp, and the components emission,
-// direct, indirect, specular); UsageError for an unknown name.
+// The film layers for AOV names (albedo, normal, depth, spp, illuminance, luminance, and the
+// components emission, direct, indirect, specular); UsageError for an unknown name.
 std::vector<AovSpec> aovSpecs(const std::vector<std::string>& names);
 // Whether an AOV is a light-path component: such layers sum to the beauty, so every pass adds its
 // share to them instead of replacing them.
 bool isComponentAov(const std::string& name);
+// Whether an AOV is made from the beauty once the passes are composited (`luminance`, its Rec.
+// 709 luminance Y in cd/m²), not by the passes' renderers.
+bool isDerivedAov(const std::string& name);
+
+// One sample of the irradiance (lux per channel) at a sensor lying on the first visible surface,
+// for the `illuminance` AOV: sampleSensorIrradiance over the pass's own estimator, as Radiance's
+// `rpict -i` computes irradiance in place of radiance at the surfaces it sees.
+using SurfaceIrradiance = std::function<Color(const Sensor&, Sampler&, PathCounters&)>;
 
 class ImageRenderer {
   public:
@@ -33,8 +42,9 @@ class ImageRenderer {
     // apart and reconstructed with filterCorrection() (raytrace/correction_filter.h), of this
     // width in pixels at one sample per pixel, each pixel's width then chosen around it by
     // chooseFilterWidths(); 0: they stay in the image as they are.
+    // surfaceIrradiance fills the `illuminance` AOV; it is needed when settings.aovs asks for it.
     ImageRenderer(const Camera& camera, const RenderSettings& settings, RadianceEstimator estimator,
-                  float correctionSigma = 0.0f);
+                  float correctionSigma = 0.0f, SurfaceIrradiance surfaceIrradiance = {});
 
     // Renders one more sample per pixel (sample index samplesDone()), for every pixel that has
     // not converged under adaptive sampling (RenderSettings::noiseThreshold).
@@ -75,12 +85,16 @@ class ImageRenderer {
     // The film's layers: the user's AOVs, then those of a correction kept apart (filling
     // aovComponents_ and the layer indices below).
     std::vector<AovSpec> filmLayers();
+    // One sample of the `illuminance` AOV at the first visible surface; 0 where the ray left the
+    // scene.
+    Color irradianceAt(const FirstHit& firstHit, Sampler& sampler, PathCounters& counters) const;
     // Adds a sample's correction and the guide layers the user did not ask for.
     void addCorrection(IVec2 pixel, const PathRadiance& L, const FirstHit& firstHit);
 
     const Camera& camera_;
     const RenderSettings& settings_;
     RadianceEstimator estimator_;
+    SurfaceIrradiance surfaceIrradiance_;
     PixelFilter filter_;
     std::vector<std::string> aovNames_;
     std::vector<int> aovComponents_;  // per AOV: its PathComponent, or -1 for a first-hit AOV

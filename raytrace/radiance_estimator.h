@@ -25,6 +25,10 @@ struct SurfaceGuide {
 
 // What the first visible surface looked like, for AOV layers.
 struct FirstHit : SurfaceGuide {
+    // Where the surface was seen and its geometric normal on the camera's side: the light meter
+    // of the `illuminance` AOV lies there (raytrace/sensor_irradiance.h).
+    Vec3 position{0.0f};
+    Vec3 viewerSideNormal{0.0f};
     // The first vertex the path left through a non-delta lobe: the first hit, or the surface
     // seen in a mirror or through glass (depth: the length of the path to it). Filled by the
     // tracers that correct a solution, for the filter that reconstructs the correction

@@ -17,6 +17,8 @@ void recordFirstHit(const Scene& scene, const SurfaceHit& hit, const Bsdf& bsdf,
     if (!firstHit || firstHit->valid)
         return;
     recordSurfaceGuide(scene, hit, bsdf, glm::distance(hit.p, cameraOrigin), *firstHit);
+    firstHit->position = hit.p;
+    firstHit->viewerSideNormal = glm::dot(hit.ng, cameraOrigin - hit.p) < 0.0f ? -hit.ng : hit.ng;
 }
 
 }  // namespace penumbra

@@ -44,6 +44,39 @@ TEST(AnalyticRender, PointLightOverLambertianFloor) {
     EXPECT_NEAR(luminanceMean(image), expected, 0.01 * expected);
 }
 
+// The `illuminance` AOV reads what a light meter lying on the floor reads, E = I / h² below a
+// point light whatever the floor's albedo, in the path tracer and the radiosity view; the
+// `luminance` AOV is the beauty's Rec. 709 luminance.
+TEST(AnalyticRender, IlluminanceAndLuminanceLayersUnderAPointLight) {
+    constexpr float kRho = 0.3f, kIntensity = 100.0f, kHeight = 2.0f;
+    GltfBuilder scene;
+    addFloor(scene, scene.addMaterial({.baseColor = Color(kRho)}), 50.0f);
+    scene.addLight({.type = "point", .intensity = kIntensity, .position = {0, kHeight, 0}});
+    scene.setOrthographicCamera({0, 5, 0}, kLookDown, 0.005f, 0.005f);
+    const double lux = kIntensity / (kHeight * kHeight);
+    for (const char* pipeline : {"reference", "radiosity"}) {
+        SCOPED_TRACE(pipeline);
+        TempDir dir("illuminance-aov");
+        const Image image = render(scene, dir,
+                                   std::string("--width 8 --height 8 --spp 4 --aov "
+                                               "illuminance,luminance --pipeline ") +
+                                       pipeline);
+        const int E = image.channelIndex("illuminance.G"), Y = image.channelIndex("luminance.Y");
+        ASSERT_GE(E, 0);
+        ASSERT_GE(Y, 0);
+        // Next-event estimation of one delta light with nothing to bounce from: no noise; the
+        // radiosity view's sensor reads the light itself the same way.
+        EXPECT_NEAR(regionMean(image, E, 0, 0, 8, 8), lux, 1e-3 * lux);
+        for (int y = 0; y < 8; ++y) {
+            for (int x = 0; x < 8; ++x) {
+                const float luminance = 0.2126f * image.at(x, y, 0) + 0.7152f * image.at(x, y, 1) +
+                                        0.0722f * image.at(x, y, 2);
+                EXPECT_NEAR(image.at(x, y, Y), luminance, 1e-5f * luminance);
+            }
+        }
+    }
+}
+
 // Form factor from a differential area to a parallel rectangle a x b at distance c, the area
 // element facing it below one corner (Howell's catalogue, configuration B-3).
 double cornerFormFactor(double a, double b, double c) {
