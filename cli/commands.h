@@ -42,6 +42,7 @@ Command addInfoCommand(CLI::App& app);
 Command addBakeCommand(CLI::App& app);
 Command addPlanCommand(CLI::App& app);
 Command addIlluminanceCommand(CLI::App& app);
+Command addFalseColourCommand(CLI::App& app);
 StatusCommand addDiffCommand(CLI::App& app);
 StatusCommand addBenchCommand(CLI::App& app);
 

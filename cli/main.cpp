@@ -22,6 +22,7 @@ int main(int argc, char** argv) {
     penumbra::cli::Command bake = penumbra::cli::addBakeCommand(app);
     penumbra::cli::Command plan = penumbra::cli::addPlanCommand(app);
     penumbra::cli::Command illuminance = penumbra::cli::addIlluminanceCommand(app);
+    penumbra::cli::Command falsecolor = penumbra::cli::addFalseColourCommand(app);
     penumbra::cli::StatusCommand diff = penumbra::cli::addDiffCommand(app);
     penumbra::cli::StatusCommand bench = penumbra::cli::addBenchCommand(app);
 
@@ -43,6 +44,8 @@ int main(int argc, char** argv) {
             plan();
         if (app.got_subcommand("illuminance"))
             illuminance();
+        if (app.got_subcommand("falsecolor"))
+            falsecolor();
         if (app.got_subcommand("diff"))
             return diff();
         if (app.got_subcommand("bench"))
