@@ -9,6 +9,7 @@
 #pragma once
 
 #include "core/math.h"
+#include "core/scene_description.h"
 
 #include <array>
 #include <optional>
@@ -31,17 +32,41 @@ struct PointIlluminance {
 // a row that is not six finite numbers, a zero normal, or a file with no point.
 std::vector<CalculationPoint> readCalculationPoints(const std::string& path);
 
-// A workplane: the rectangle x in [X0, X1], z in [Z0, Z1] at height y = HEIGHT (metres, the
-// file's world frame), cut into square cells of side SPACING (the last ones cut short), one
-// upward sensor at each cell's centre, row by row from Z0 (the picture's top) and in each row from
-// X0, written "X0,Z0,X1,Z1,HEIGHT,SPACING".
+// A workplane: square cells of side SPACING over a rectangle x in [X0, X1], z in [Z0, Z1]
+// (metres, the file's world frame; the last cells cut short), rows from Z0 (the picture's top),
+// each row from X0, and an upward sensor at the centre of each cell that lies on the workplane.
 struct Workplane {
     std::vector<CalculationPoint> points;
+    std::vector<int> cells;     // per point, its cell: row x columns + column
     int columns = 0, rows = 0;  // along x and along z
 };
-// Throws UsageError for text that is not six finite numbers with X0 < X1, Z0 < Z1 and a spacing
-// > 0, or for more than 10^6 points.
+
+// `--grid X0,Z0,X1,Z1,HEIGHT,SPACING`: the whole rectangle at y = HEIGHT. Throws UsageError for
+// text that is not six finite numbers with X0 < X1, Z0 < Z1 and a spacing > 0, or for more than
+// 10^6 cells.
 Workplane workplaneGrid(const std::string& text);
+
+// `--grid-polygon HEIGHT,SPACING,X0,Z0,X1,Z1,X2,Z2[,...]`: the cells whose centre lies inside
+// the polygon (seen from above; the even-odd rule, so any simple polygon, convex or not), at
+// y = HEIGHT. Throws UsageError as workplaneGrid, and for fewer than three vertices.
+Workplane workplanePolygon(const std::string& text);
+
+// `--grid-floor NAME,HEIGHT,SPACING`, read before the scene is loaded: the floor NAME, a
+// material's or a mesh's name, and the workplane's height above it.
+struct FloorWorkplane {
+    std::string text;  // as given, for messages
+    std::string surface;
+    double height = 0.0, spacing = 0.0;
+};
+// Throws UsageError unless the text is a name and two finite numbers, the spacing > 0.
+FloorWorkplane parseFloorWorkplane(const std::string& text);
+// The cells over the floor: those whose centre lies above a triangle facing up (its normal within
+// 60 degrees of +Y) of a mesh whose material or own name (glTF mesh name, or
+// "NAME/PRIMITIVE") is floor.surface, over the bounding rectangle of those triangles; each
+// sensor floor.height above that triangle's plane (a room's floor at any level, a sloped one, an
+// L-shaped one). `origin` is where the scene's stored positions start in the file's frame
+// (SceneDescription::origin). Throws UsageError when no triangle facing up has that name.
+Workplane workplaneOverFloor(const FloorWorkplane& floor, const SceneDescription& scene);
 
 // Throws InputError unless `path` ends in .csv and its directory exists: checked before the work.
 void checkPointsOutputPath(const std::string& path);

@@ -36,7 +36,7 @@ struct IlluminanceOptions {
     IlluminanceSettings settings;
     int threads = 0;
     bool daylightFactor = false;
-    std::string grid;
+    std::string grid, gridPolygon, gridFloor;
     std::string picture;
 };
 
@@ -46,14 +46,28 @@ void writeGridPicture(const std::string& path, const Workplane& grid,
                       const std::vector<PointIlluminance>& results) {
     const int scale = std::max(1, 320 / std::max(grid.columns, grid.rows));
     Image lux(grid.columns * scale, grid.rows * scale, {"Y"});
-    for (int j = 0; j < grid.rows; ++j)
-        for (int i = 0; i < grid.columns; ++i)
-            for (int y = 0; y < scale; ++y)
-                for (int x = 0; x < scale; ++x)
-                    lux.at(i * scale + x, j * scale + y, 0) =
-                        float(results[size_t(j * grid.columns + i)].lux);
+    const auto cellPixels = [&](int cell, const auto& visit) {
+        const int i = cell % grid.columns, j = cell / grid.columns;
+        for (int y = 0; y < scale; ++y)
+            for (int x = 0; x < scale; ++x)
+                visit(i * scale + x, j * scale + y);
+    };
+    for (size_t k = 0; k < grid.cells.size(); ++k)
+        cellPixels(grid.cells[k], [&](int x, int y) { lux.at(x, y, 0) = float(results[k].lux); });
     HeatmapLegend legend;
-    const Image picture = renderHeatmap(lux, "illuminance, lux (log scale)", legend);
+    Image picture = renderHeatmap(lux, "illuminance, lux (log scale)", legend);
+    // The cells of the bounding rectangle off the workplane show the background.
+    std::vector<bool> onWorkplane(size_t(grid.columns * grid.rows), false);
+    for (const int cell : grid.cells)
+        onWorkplane[size_t(cell)] = true;
+    for (int cell = 0; cell < grid.columns * grid.rows; ++cell) {
+        if (onWorkplane[size_t(cell)])
+            continue;
+        cellPixels(cell, [&](int x, int y) {
+            for (int c = 0; c < 3; ++c)
+                picture.at(x, y, c) = kFalseColourBackground;
+        });
+    }
     ImageMetadata metadata;
     metadata.set("penumbra:heatmap", std::string("illuminance_lux, log10 scale, viridis"));
     metadata.set("penumbra:heatmap_low", float(legend.low));
@@ -160,19 +174,40 @@ void measure(IlluminanceOptions& options) {
         }
     }
     checkPointsOutputPath(options.output);
-    if (options.points.empty() == options.grid.empty())
-        throw UsageError("give the points with --points IN.csv or --grid, one of them");
+    const int given = int(!options.points.empty()) + int(!options.grid.empty()) +
+                      int(!options.gridPolygon.empty()) + int(!options.gridFloor.empty());
+    if (given != 1) {
+        throw UsageError(
+            "give the points with one of --points IN.csv, --grid, --grid-polygon and "
+            "--grid-floor");
+    }
+    const bool workplane = options.points.empty();
     if (!options.picture.empty()) {
-        if (options.grid.empty())
-            throw UsageError("--picture draws a --grid's workplane: give --grid");
+        if (!workplane)
+            throw UsageError(
+                "--picture draws a workplane: give --grid, --grid-polygon or "
+                "--grid-floor");
         checkOutputPath(options.picture);
     }
-    const Workplane grid = options.grid.empty() ? Workplane{} : workplaneGrid(options.grid);
-    const std::vector<CalculationPoint> points =
-        options.grid.empty() ? readCalculationPoints(options.points) : grid.points;
+    // Every form is checked before the scene is loaded; the floor's cells need the scene.
+    Workplane grid;
+    std::optional<FloorWorkplane> floor;
+    if (!options.grid.empty())
+        grid = workplaneGrid(options.grid);
+    else if (!options.gridPolygon.empty())
+        grid = workplanePolygon(options.gridPolygon);
+    else if (!options.gridFloor.empty())
+        floor = parseFloorWorkplane(options.gridFloor);
+    const std::vector<CalculationPoint> givenPoints =
+        workplane ? std::vector<CalculationPoint>{} : readCalculationPoints(options.points);
 
     const auto start = std::chrono::steady_clock::now();
     const std::unique_ptr<Scene> scene = loadScene(options.scene);
+    if (floor)
+        grid = workplaneOverFloor(*floor, scene->description());
+    if (workplane && grid.points.empty())
+        throw UsageError("the workplane has no cell: its spacing is larger than the area");
+    const std::vector<CalculationPoint>& points = workplane ? grid.points : givenPoints;
     const int threads = options.threads > 0 ? options.threads : tbb::info::default_concurrency();
     tbb::global_control parallelism(tbb::global_control::max_allowed_parallelism, threads);
     const PreparedPipeline pipeline(script ? makeScriptPipeline(*script, PassOverrides{})
@@ -239,8 +274,16 @@ Command addIlluminanceCommand(CLI::App& app) {
                         "A workplane instead of --points: X0,Z0,X1,Z1,HEIGHT,SPACING, upward "
                         "sensors at the centres of square cells over x in [X0, X1], z in "
                         "[Z0, Z1] at y = HEIGHT (metres)");
+    command->add_option(
+        "--grid-polygon", options->gridPolygon,
+        "A workplane over a polygon: HEIGHT,SPACING,X0,Z0,X1,Z1,X2,Z2[,...], upward sensors at "
+        "y = HEIGHT at the centres of the square cells inside it");
+    command->add_option(
+        "--grid-floor", options->gridFloor,
+        "A workplane over a room's floor: NAME,HEIGHT,SPACING, upward sensors HEIGHT above the "
+        "faces facing up of the meshes whose material or mesh is NAME");
     command->add_option("--picture", options->picture,
-                        "With --grid: the workplane's illuminance as a false-colour picture "
+                        "With a workplane: its illuminance as a false-colour picture "
                         "(.png, .exr, ...) with its legend");
     command
         ->add_option("-o,--output", options->output,

@@ -20,9 +20,8 @@ namespace {
 namespace IBA = OIIO::ImageBufAlgo;
 
 constexpr int kFontSize = 13;
-constexpr int kLabelGap = 8;          // least space between two labels, in pixels
-constexpr int kLabelInset = 3;        // least space between a label and the picture's side
-constexpr float kBackground = 0.01f;  // linear grey behind the legend and beside narrow maps
+constexpr int kLabelGap = 8;    // least space between two labels, in pixels
+constexpr int kLabelInset = 3;  // least space between a label and the picture's side
 constexpr float kTextColor[3] = {1.0f, 1.0f, 1.0f};
 constexpr float kNonFiniteColor[3] = {1.0f, 0.0f, 1.0f};
 
@@ -216,7 +215,8 @@ Image renderFalseColour(const Image& values, const FalseColourSettings& settings
         std::max({width, kFalseColourMinWidth, legendWidth(settings.title, labelTexts, font)});
     const int canvasHeight = height + kFalseColourLegendHeight;
     OIIO::ImageBuf canvas(OIIO::ImageSpec(canvasWidth, canvasHeight, 3, OIIO::TypeDesc::FLOAT));
-    const float background[3] = {kBackground, kBackground, kBackground};
+    const float background[3] = {kFalseColourBackground, kFalseColourBackground,
+                                 kFalseColourBackground};
     check(IBA::fill(canvas, background), canvas, "fill");
 
     // The map at the top left.

@@ -24,6 +24,9 @@ inline constexpr int kFalseColourMargin = 10;        // left and right of the co
 inline constexpr int kFalseColourBarTop = 22;        // colour bar, from the top of the strip
 inline constexpr int kFalseColourBarHeight = 14;
 inline constexpr int kFalseColourTickHeight = 3;  // division marks, below the bar
+// Linear grey behind the legend and beside narrow maps; also what a map may show where it has
+// no value (the cells of a workplane's bounding rectangle outside the workplane).
+inline constexpr float kFalseColourBackground = 0.01f;
 
 // The same layout under the names that `penumbra diff`, `penumbra illuminance` and their tests
 // use for the error heat map.

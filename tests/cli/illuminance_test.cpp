@@ -398,8 +398,82 @@ TEST(Illuminance, WorkplaneGrid) {
     refused("--grid 1,2,3", "expected six numbers");
     refused("--grid 1,0,0,1,0.8,0.5", "expected X0 < X1 and Z0 < Z1");
     refused("--grid 0,0,1,1,0.8,0", "the spacing must be > 0");
-    refused("", "--points IN.csv or --grid");
+    refused("", "one of --points IN.csv, --grid");
     refused("--grid 0,0,1,1,0.8,0.5 --picture " + dir.file("grid.txt"), "grid.txt");
+}
+
+// A workplane over a polygon: the cells whose centres lie inside it, here the triangle (0, 0),
+// (4, 0), (0, 4) with 1-m cells, whose centres (i + 0.5, j + 0.5) are inside when i + j <= 2: six
+// of them, each reading I h / d³.
+TEST(Illuminance, WorkplaneOverAPolygon) {
+    TempDir dir("illuminance-polygon");
+    GltfBuilder scene;
+    addFloor(scene, 50.0f, 0.0f, scene.addMaterial({.baseColor = Color(0.0f)}));
+    scene.addLight({.type = "point", .intensity = 100.0f, .position = {0, 2, 0}});
+    scene.write(dir.file("scene.gltf"));
+    const CliResult result = runPenumbra(
+        "illuminance " + dir.file("scene.gltf") + " --grid-polygon 0.5,1,0,0,4,0,0,4 -o " +
+        dir.file("polygon.csv") + " --picture " + dir.file("polygon.png") + " --spp 4 --quiet");
+    ASSERT_EQ(result.status, 0) << result.output;
+    const std::vector<Reading> rows = readResults(dir.file("polygon.csv"));
+    const std::vector<std::pair<double, double>> centres = {{0.5, 0.5}, {1.5, 0.5}, {2.5, 0.5},
+                                                            {0.5, 1.5}, {1.5, 1.5}, {0.5, 2.5}};
+    ASSERT_EQ(rows.size(), centres.size());
+    for (size_t k = 0; k < rows.size(); ++k) {
+        const auto [x, z] = centres[k];
+        EXPECT_EQ(rows[k].given, (std::vector<double>{x, 0.5, z, 0, 1, 0})) << k;
+        const double d = std::sqrt(x * x + 1.5 * 1.5 + z * z);
+        EXPECT_NEAR(rows[k].lux, 100.0 * 1.5 / (d * d * d), 1e-4) << k;
+    }
+    const CliResult bad = runPenumbra("illuminance " + dir.file("scene.gltf") +
+                                      " --grid-polygon 0.5,1,0,0,4,0 -o " + dir.file("bad.csv"));
+    EXPECT_EQ(bad.status, 2) << bad.output;
+    EXPECT_NE(bad.output.find("three or more vertices"), std::string::npos) << bad.output;
+}
+
+// A workplane over a room's floor found by its material's name: an L of two squares at two levels
+// (y = 0 and a step up to y = 0.3), sensors 0.8 m above each, I h / d³ from the light at each;
+// the cells of the bounding square off the L are left out.
+TEST(Illuminance, WorkplaneOverANamedFloor) {
+    TempDir dir("illuminance-floor");
+    GltfBuilder scene;
+    const int floor = scene.addMaterial({.baseColor = Color(0.0f), .name = "Floor"});
+    // Squares [0, 2] x [0, 2] at y = 0, [2, 4] x [0, 2] at y = 0.3, [0, 2] x [2, 4] at y = 0.
+    const auto square = [&](float x, float z, float y) {
+        scene.addQuad({x, y, z + 2}, {x + 2, y, z + 2}, {x + 2, y, z}, {x, y, z}, floor);
+    };
+    square(0, 0, 0);
+    square(2, 0, 0.3f);
+    square(0, 2, 0);
+    // A ceiling-height black slab that faces down (not floor) carries the same material.
+    scene.addQuad({0, 3, 0}, {4, 3, 0}, {4, 3, 4}, {0, 3, 4}, floor);
+    scene.addLight({.type = "point", .intensity = 100.0f, .position = {1, 2.5f, 1}});
+    scene.write(dir.file("scene.gltf"));
+    const CliResult result =
+        runPenumbra("illuminance " + dir.file("scene.gltf") + " --grid-floor Floor,0.8,1 -o " +
+                    dir.file("floor.csv") + " --spp 4 --quiet");
+    ASSERT_EQ(result.status, 0) << result.output;
+    const std::vector<Reading> rows = readResults(dir.file("floor.csv"));
+    // Rows from z = 0: (0.5, 0.5) (1.5, 0.5) (2.5, 0.5) (3.5, 0.5), then z = 1.5 likewise, then
+    // z = 2.5 and 3.5 over the first two columns only.
+    std::vector<std::array<double, 3>> expected;
+    for (const double z : {0.5, 1.5, 2.5, 3.5})
+        for (const double x : {0.5, 1.5, 2.5, 3.5})
+            if (x < 2.0 || z < 2.0)
+                expected.push_back({x, (x > 2.0 ? 0.3 : 0.0) + 0.8, z});
+    ASSERT_EQ(rows.size(), expected.size());
+    for (size_t k = 0; k < rows.size(); ++k) {
+        const auto [x, y, z] = expected[k];
+        EXPECT_NEAR(rows[k].given[0], x, 1e-6) << k;
+        EXPECT_NEAR(rows[k].given[1], y, 1e-6) << k;
+        EXPECT_NEAR(rows[k].given[2], z, 1e-6) << k;
+        const double h = 2.5 - y, d = std::sqrt((x - 1) * (x - 1) + h * h + (z - 1) * (z - 1));
+        EXPECT_NEAR(rows[k].lux, 100.0 * h / (d * d * d), 1e-4) << k;
+    }
+    const CliResult bad = runPenumbra("illuminance " + dir.file("scene.gltf") +
+                                      " --grid-floor Carpet,0.8,1 -o " + dir.file("bad.csv"));
+    EXPECT_EQ(bad.status, 2) << bad.output;
+    EXPECT_NE(bad.output.find("'Carpet'"), std::string::npos) << bad.output;
 }
 
 // Bad input: exit status 2, a message naming the file and line, no output written.

@@ -161,6 +161,8 @@ std::string GltfBuilder::json() const {
         }
         if (!extensions.empty())
             material["extensions"] = extensions;
+        if (!m.name.empty())
+            material["name"] = m.name;
         materials.push_back(material);
     }
 

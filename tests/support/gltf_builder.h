@@ -17,6 +17,7 @@ struct TestMaterial {
     bool doubleSided = false;
     float metallic = 0.0f;
     float roughness = 1.0f;
+    std::string name{};  // written when not empty
 };
 
 struct TestLight {
