@@ -14,6 +14,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <functional>
 #include <iostream>
 #include <optional>
@@ -228,6 +229,12 @@ void render(RenderOptions& options) {
         aovs.push_back({name, run.layers.at(name)});
     for (const std::string& name : run.lightGroups)
         aovs.push_back({name, run.layers.at(name)});
+    // The histogram adjustment sizes the eye's foveal samples by the view's field.
+    if (cameraDesc.projection == ProjectionType::Perspective) {
+        const float aspect = float(size.x) / float(size.y);
+        toneMapping.horizontalFieldOfViewDegrees =
+            glm::degrees(2.0f * std::atan(std::tan(0.5f * cameraDesc.yfov) * aspect));
+    }
     // Ward's operator adapts to the image: its world adaptation luminance.
     if (toneMapping.op == ToneMapOperator::Ward)
         toneMapping.adaptationLuminance = wardAdaptationLuminance(run.layers.at("beauty"));
@@ -310,7 +317,9 @@ Command addRenderCommand(CLI::App& app) {
         ->add_option("--tonemap", options->tonemap,
                      "Tone-mapping operator for 8-bit output: clamp, reinhard, aces, ward (Ward "
                      "1994: a scale factor from the image's adaptation luminance, display "
-                     "white at 100 cd/m²)")
+                     "white at 100 cd/m²), histogram (Ward Larson et al. 1997: histogram "
+                     "adjustment within the eye's contrast sensitivity), human (the same and "
+                     "the eye's loss of acuity in dim light)")
         ->capture_default_str();
     command
         ->add_option("--noise-threshold", s.noiseThreshold,

@@ -105,18 +105,14 @@ OIIO::ImageSpec floatPixels(const Image& beauty, const std::vector<NamedLayer>& 
 // Display-referred 8-bit sRGB of the beauty: exposure, tone mapping, sRGB encoding.
 OIIO::ImageSpec eightBitPixels(const Image& beauty, const ToneMapping& toneMapping,
                                std::vector<uint8_t>& pixels, size_t& replaced) {
-    const size_t pixelCount = size_t(beauty.width()) * size_t(beauty.height());
-    pixels.reserve(pixelCount * 3);
-    for (size_t i = 0; i < pixelCount; ++i) {
-        Color linear;
-        for (size_t c = 0; c < 3; ++c) {
-            linear[int(c)] = finiteOrZero(beauty.pixels()[i * 3 + c], replaced);
-        }
-        const Color display = toneMapping.apply(linear);
-        for (int c = 0; c < 3; ++c) {
-            pixels.push_back(encodeSrgb8(display[c]));
-        }
-    }
+    Image linear(beauty.width(), beauty.height(), {"R", "G", "B"});
+    const std::span<float> values = linear.pixels();
+    for (size_t i = 0; i < values.size(); ++i)
+        values[i] = finiteOrZero(beauty.pixels()[i], replaced);
+    const Image display = toneMapImage(linear, toneMapping);
+    pixels.reserve(values.size());
+    for (const float v : display.pixels())
+        pixels.push_back(encodeSrgb8(v));
     OIIO::ImageSpec spec(beauty.width(), beauty.height(), 3, OIIO::TypeDesc::UINT8);
     spec.attribute("oiio:ColorSpace", "sRGB");
     return spec;

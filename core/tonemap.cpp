@@ -1,6 +1,7 @@
 #include "core/tonemap.h"
 
 #include "core/errors.h"
+#include "core/histogram_adjustment.h"
 #include "core/texture.h"
 
 #include <algorithm>
@@ -27,7 +28,9 @@ float applyOperator(ToneMapOperator op, float x) {
             constexpr float a = 2.51f, b = 0.03f, c = 2.43f, d = 0.59f, e = 0.14f;
             return glm::clamp((x * (a * x + b)) / (x * (c * x + d) + e), 0.0f, 1.0f);
         }
-        case ToneMapOperator::Ward:  // scaled in apply(): clamp to the display's range
+        case ToneMapOperator::Ward:       // scaled in apply(): clamp to the display's range
+        case ToneMapOperator::Histogram:  // whole-image operators: toneMapImage()
+        case ToneMapOperator::Human:
             return glm::clamp(x, 0.0f, 1.0f);
     }
     return 0.0f;
@@ -36,14 +39,15 @@ float applyOperator(ToneMapOperator op, float x) {
 }  // namespace
 
 ToneMapOperator parseToneMapOperator(std::string_view name) {
-    for (ToneMapOperator op : {ToneMapOperator::Clamp, ToneMapOperator::Reinhard,
-                               ToneMapOperator::Aces, ToneMapOperator::Ward}) {
+    for (ToneMapOperator op :
+         {ToneMapOperator::Clamp, ToneMapOperator::Reinhard, ToneMapOperator::Aces,
+          ToneMapOperator::Ward, ToneMapOperator::Histogram, ToneMapOperator::Human}) {
         if (name == toneMapOperatorName(op)) {
             return op;
         }
     }
     throw UsageError("--tonemap: unknown tone-mapping operator \"" + std::string(name) +
-                     "\" (valid: clamp, reinhard, aces, ward)");
+                     "\" (valid: clamp, reinhard, aces, ward, histogram, human)");
 }
 
 std::string_view toneMapOperatorName(ToneMapOperator op) {
@@ -56,6 +60,10 @@ std::string_view toneMapOperatorName(ToneMapOperator op) {
             return "aces";
         case ToneMapOperator::Ward:
             return "ward";
+        case ToneMapOperator::Histogram:
+            return "histogram";
+        case ToneMapOperator::Human:
+            return "human";
     }
     return "clamp";
 }
@@ -97,6 +105,33 @@ float wardAdaptationLuminance(const Image& image) {
 uint8_t encodeSrgb8(float displayLinear) {
     const float encoded = linearToSrgb(glm::clamp(displayLinear, 0.0f, 1.0f));
     return uint8_t(std::lround(glm::clamp(encoded, 0.0f, 1.0f) * 255.0f));
+}
+
+Image toneMapImage(const Image& sceneLinear, const ToneMapping& toneMapping) {
+    const ToneMapOperator op = toneMapping.op;
+    if (op == ToneMapOperator::Histogram || op == ToneMapOperator::Human) {
+        Image exposed = sceneLinear;
+        const float scale = std::exp2(toneMapping.exposure);
+        for (float& v : exposed.pixels())
+            v *= scale;
+        HistogramAdjustmentSettings settings;
+        settings.displayMaximum = kWardDisplayMaximum;
+        settings.humanAcuity = op == ToneMapOperator::Human;
+        settings.horizontalFieldOfViewDegrees = toneMapping.horizontalFieldOfViewDegrees;
+        return histogramAdjust(exposed, settings);
+    }
+    const int r = sceneLinear.channelIndex("R"), g = sceneLinear.channelIndex("G"),
+              b = sceneLinear.channelIndex("B");
+    Image display(sceneLinear.width(), sceneLinear.height(), {"R", "G", "B"});
+    for (int y = 0; y < sceneLinear.height(); ++y) {
+        for (int x = 0; x < sceneLinear.width(); ++x) {
+            const Color shown = toneMapping.apply(
+                Color(sceneLinear.at(x, y, r), sceneLinear.at(x, y, g), sceneLinear.at(x, y, b)));
+            for (int c = 0; c < 3; ++c)
+                display.at(x, y, c) = shown[c];
+        }
+    }
+    return display;
 }
 
 }  // namespace penumbra

@@ -10,9 +10,10 @@
 
 namespace penumbra {
 
-enum class ToneMapOperator { Clamp, Reinhard, Aces, Ward };
+enum class ToneMapOperator { Clamp, Reinhard, Aces, Ward, Histogram, Human };
 
-// "clamp", "reinhard", "aces" or "ward"; anything else throws UsageError listing these.
+// "clamp", "reinhard", "aces", "ward", "histogram" or "human"; anything else throws UsageError
+// listing these.
 ToneMapOperator parseToneMapOperator(std::string_view name);
 std::string_view toneMapOperatorName(ToneMapOperator op);
 
@@ -27,11 +28,23 @@ struct ToneMapping {
     // (wardAdaptationLuminance()); the default is the display's own adaptation, which maps
     // cd/m² to display luminance one to one.
     float adaptationLuminance = 0.5f * kWardDisplayMaximum;
+    // Histogram and Human: the view's horizontal field of view, which sizes the eye's foveal
+    // samples and its acuity in pixels (core/histogram_adjustment.h).
+    float horizontalFieldOfViewDegrees = 39.6f;
 
     // Scene-linear colour (cd/m²; 1 maps to display white under clamp) to display-linear values
-    // in [0, 1], per channel. Negative inputs count as 0.
+    // in [0, 1], per channel. Negative inputs count as 0. Not for the operators that adapt to
+    // the whole image (histogram, human): toneMapImage() applies every operator.
     Color apply(const Color& linear) const;
 };
+
+// The display-linear image, channels R, G, B in [0, 1], of a scene-linear one (channels R, G, B,
+// finite): exposure, then the operator, pixel by pixel, or over the whole image for
+//  - histogram: Ward Larson, Rushmeier and Piatko 1997's histogram adjustment with the human
+//    contrast sensitivity ceiling (core/histogram_adjustment.h), on a display of 1 to 100 cd/m²;
+//  - human: the same and the loss of visual acuity in dim light (their section 5.3), as
+//    Radiance's `pcond -h` mimics human vision.
+Image toneMapImage(const Image& sceneLinear, const ToneMapping& toneMapping);
 
 // Ward's scale factor m, display luminance over world luminance: at world adaptation L_wa a
 // just-noticeable difference of luminance maps to one at the display's adaptation,

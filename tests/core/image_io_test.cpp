@@ -162,12 +162,37 @@ TEST(ToneMapping, ParsesNamesAndListsThemOnError) {
     EXPECT_EQ(parseToneMapOperator("reinhard"), ToneMapOperator::Reinhard);
     EXPECT_EQ(parseToneMapOperator("aces"), ToneMapOperator::Aces);
     EXPECT_EQ(parseToneMapOperator("ward"), ToneMapOperator::Ward);
+    EXPECT_EQ(parseToneMapOperator("histogram"), ToneMapOperator::Histogram);
+    EXPECT_EQ(parseToneMapOperator("human"), ToneMapOperator::Human);
     try {
         parseToneMapOperator("filmic");
         FAIL() << "expected UsageError";
     } catch (const UsageError& e) {
-        EXPECT_NE(std::string(e.what()).find("clamp, reinhard, aces, ward"), std::string::npos);
+        EXPECT_NE(std::string(e.what()).find("clamp, reinhard, aces, ward, histogram, human"),
+                  std::string::npos);
     }
+}
+
+// The whole-image operators (Ward Larson et al. 1997): a ramp of six decades, 0.01 to 10^4 cd/m²
+// evenly in log luminance, more than 8-bit sRGB shows at one exposure (clamp shows every pixel
+// from 1 cd/m² up as white); the histogram adjustment shows the ramp rising across the whole
+// picture, each eighth brighter than the last, its top white.
+TEST(ToneMapping, HistogramAdjustmentShowsEveryDecade) {
+    Image scene(64, 4, {"R", "G", "B"});
+    const auto luminanceAt = [](int x) { return std::pow(10.0f, -2.0f + 6.0f * float(x) / 63.0f); };
+    for (int y = 0; y < scene.height(); ++y)
+        for (int x = 0; x < scene.width(); ++x)
+            for (int c = 0; c < 3; ++c)
+                scene.at(x, y, c) = luminanceAt(x);
+    for (const ToneMapOperator op : {ToneMapOperator::Histogram, ToneMapOperator::Human}) {
+        SCOPED_TRACE(std::string(toneMapOperatorName(op)));
+        const Image display = toneMapImage(scene, ToneMapping{0.0f, op});
+        for (int x = 15; x < 64; x += 8)
+            EXPECT_LT(encodeSrgb8(display.at(x - 8, 2, 1)), encodeSrgb8(display.at(x, 2, 1))) << x;
+        EXPECT_EQ(encodeSrgb8(display.at(63, 2, 1)), 255);
+    }
+    // Clamp, for comparison: a third of the ramp at white.
+    EXPECT_EQ(toneMapImage(scene, ToneMapping{}).at(43, 2, 1), 1.0f);
 }
 
 TEST_F(ImageIoTest, PngHoldsToneMappedSrgbCodeValues) {
