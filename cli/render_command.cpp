@@ -30,7 +30,7 @@ struct RenderOptions {
     std::vector<std::string> outputs;
     std::string pipeline = "reference";
     RenderSettings settings;
-    float exposure = 0.0f;
+    std::string exposure = "0";  // EV, or "auto"
     std::string tonemap = "clamp";
     std::string aovList;
     bool lightGroups = false;
@@ -123,6 +123,17 @@ PipelineRun renderLightGroups(
     return sum;
 }
 
+// --exposure: EV, or nothing for "auto".
+std::optional<float> parseExposure(const std::string& text) {
+    if (text == "auto")
+        return std::nullopt;
+    char* end = nullptr;
+    const float ev = std::strtof(text.c_str(), &end);
+    if (text.empty() || *end != '\0' || !std::isfinite(ev))
+        throw UsageError("--exposure " + text + ": expected a number of EV or auto");
+    return ev;
+}
+
 // The scene's camera; a bad camera name from a script is reported at its place in the script.
 CameraDesc scriptCamera(const Scene& scene, const RenderOptions& options,
                         const std::optional<PassScript>& script) {
@@ -152,7 +163,8 @@ void render(RenderOptions& options) {
     // Refuse bad outputs and option values before spending time on loading and rendering.
     for (const std::string& output : options.outputs)
         checkOutputPath(output);
-    ToneMapping toneMapping{options.exposure, parseToneMapOperator(options.tonemap)};
+    const std::optional<float> exposure = parseExposure(options.exposure);
+    ToneMapping toneMapping{exposure.value_or(0.0f), parseToneMapOperator(options.tonemap)};
     parseFilter(settings.filter);
     aovSpecs(settings.aovs);
     PassOverrides overrides;
@@ -235,6 +247,11 @@ void render(RenderOptions& options) {
         toneMapping.horizontalFieldOfViewDegrees =
             glm::degrees(2.0f * std::atan(std::tan(0.5f * cameraDesc.yfov) * aspect));
     }
+    if (!exposure) {
+        toneMapping.exposure = automaticExposure(run.layers.at("beauty"));
+        if (!settings.quiet)
+            std::cerr << "penumbra: automatic exposure " << toneMapping.exposure << " EV\n";
+    }
     // Ward's operator adapts to the image: its world adaptation luminance.
     if (toneMapping.op == ToneMapOperator::Ward)
         toneMapping.adaptationLuminance = wardAdaptationLuminance(run.layers.at("beauty"));
@@ -311,7 +328,10 @@ Command addRenderCommand(CLI::App& app) {
         ->capture_default_str();
     command->add_option("--filter", s.filter, "Pixel filter: box, gaussian, blackman-harris")
         ->capture_default_str();
-    command->add_option("--exposure", options->exposure, "Exposure in EV for tone-mapped output")
+    command
+        ->add_option("--exposure", options->exposure,
+                     "Exposure in EV for tone-mapped output, or auto (the image's log-average "
+                     "luminance at middle grey, 0.18)")
         ->capture_default_str();
     command
         ->add_option("--tonemap", options->tonemap,

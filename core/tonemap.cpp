@@ -107,6 +107,10 @@ uint8_t encodeSrgb8(float displayLinear) {
     return uint8_t(std::lround(glm::clamp(encoded, 0.0f, 1.0f) * 255.0f));
 }
 
+float automaticExposure(const Image& image) {
+    return std::log2(0.18f / wardAdaptationLuminance(image));
+}
+
 Image toneMapImage(const Image& sceneLinear, const ToneMapping& toneMapping) {
     const ToneMapOperator op = toneMapping.op;
     if (op == ToneMapOperator::Histogram || op == ToneMapOperator::Human) {

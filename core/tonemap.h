@@ -57,6 +57,11 @@ float wardScaleFactor(float adaptationLuminance);
 // Rec. 709 luminance, exp(mean(log(1e-4 + Y))) (the floor keeps black pixels finite).
 float wardAdaptationLuminance(const Image& image);
 
+// Automatic exposure, EV: the one that shows the image's log-average luminance (as
+// wardAdaptationLuminance) at middle grey, 0.18 (Reinhard et al. 2002's "key" of a normal scene,
+// their Eq. 2), log2(0.18 / L_avg).
+float automaticExposure(const Image& image);
+
 // 8-bit code value of a display-linear value in [0, 1] (clamped): the IEC 61966-2-1 sRGB
 // encoding, then rounding to the nearest of 0..255.
 uint8_t encodeSrgb8(float displayLinear);

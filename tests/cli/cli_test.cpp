@@ -145,6 +145,10 @@ TEST_F(CliRefuses, UnknownToneMapping) {
                   {"filmic", "clamp", "reinhard", "aces"});
 }
 
+TEST_F(CliRefuses, ExposureThatIsNotANumber) {
+    expectRefused(renderArguments(kCornellBox, "--exposure bright"), {"--exposure bright", "auto"});
+}
+
 TEST_F(CliRefuses, UnknownCamera) {
     expectRefused(renderArguments(kCornellBox, "--camera overhead"),
                   {"--camera", "overhead", "cornell_camera"});
@@ -600,6 +604,31 @@ TEST(Cli, PngIsEightBitSrgbOfTheBeauty) {
                 const float code = png.at(x, y, c) * 255.0f;
                 mismatches += std::abs(code - encodeSrgb8(shown[c])) > 1e-3f ? 1 : 0;
             }
+        }
+    }
+    EXPECT_EQ(mismatches, 0u);
+}
+
+// --exposure auto: the PNG is the EXR shown at the exposure that puts its log-average luminance
+// at middle grey (core/tonemap.h), which the command prints.
+TEST(Cli, AutomaticExposure) {
+    TempDir dir("cli-auto-exposure");
+    const CliResult result =
+        runPenumbra("render " + kCornellBox + " -o " + dir.file("beauty.exr") + " -o " +
+                    dir.file("beauty.png") + " --width 40 --height 24 --spp 4 --exposure auto");
+    ASSERT_EQ(result.status, 0) << result.output;
+    const Image exr = readImage(dir.file("beauty.exr"));
+    const Image png = readImage(dir.file("beauty.png"));
+    const float ev = automaticExposure(exr);
+    EXPECT_NE(result.output.find("automatic exposure"), std::string::npos) << result.output;
+    const ToneMapping display{ev, ToneMapOperator::Clamp};
+    size_t mismatches = 0;
+    for (int y = 0; y < png.height(); ++y) {
+        for (int x = 0; x < png.width(); ++x) {
+            const Color shown =
+                display.apply(Color(exr.at(x, y, 0), exr.at(x, y, 1), exr.at(x, y, 2)));
+            for (int c = 0; c < 3; ++c)
+                mismatches += std::abs(png.at(x, y, c) * 255.0f - encodeSrgb8(shown[c])) > 1.5f;
         }
     }
     EXPECT_EQ(mismatches, 0u);

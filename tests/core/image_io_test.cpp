@@ -157,6 +157,20 @@ TEST(ToneMapping, WardScalesByTheAdaptationLuminance) {
     EXPECT_NEAR(wardAdaptationLuminance(image), 10.0f, 1e-3f);
 }
 
+// Automatic exposure puts the log-average luminance at middle grey: an image of Y = 2 and Y = 8
+// has log-average 4, so 4 cd/m² shows at 0.18 under clamp: EV = log2(0.045).
+TEST(ToneMapping, AutomaticExposureShowsTheLogAverageAtMiddleGrey) {
+    Image image(2, 1, {"R", "G", "B"});
+    for (int c = 0; c < 3; ++c) {
+        image.at(0, 0, c) = 2.0f;
+        image.at(1, 0, c) = 8.0f;
+    }
+    const float ev = automaticExposure(image);
+    EXPECT_NEAR(ev, std::log2(0.045f), 1e-3f);
+    const ToneMapping automatic{ev, ToneMapOperator::Clamp};
+    EXPECT_NEAR(automatic.apply(Color(4.0f)).x, 0.18f, 1e-4f);
+}
+
 TEST(ToneMapping, ParsesNamesAndListsThemOnError) {
     EXPECT_EQ(parseToneMapOperator("clamp"), ToneMapOperator::Clamp);
     EXPECT_EQ(parseToneMapOperator("reinhard"), ToneMapOperator::Reinhard);
