@@ -6,12 +6,15 @@
 #include "core/errors.h"
 #include "core/gltf_loader.h"
 #include "core/photometric_files.h"
+#include "core/portal_detection.h"
 #include "core/sky.h"
 #include "core/solar_position.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <iomanip>
 #include <iostream>
 #include <map>
 #include <memory>
@@ -75,7 +78,8 @@ void addSceneInputOptions(CLI::App& command, SceneInput& input, PassScripts scri
         .add_option("--portal", input.environment.portals,
                     "A window the environment is seen through, sampled to light what is behind "
                     "it: X0,Y0,Z0,X1,Y1,Z1,X2,Y2,Z2, a corner and its two neighbours (metres, "
-                    "the file's world frame); repeat for several")
+                    "the file's world frame); repeat for several; or auto: the scene's openings, "
+                    "found")
         ->take_all();
 }
 
@@ -304,9 +308,40 @@ void applyEnvironment(const EnvironmentInput& input, SceneDescription& descripti
                 "--portal: the scene has no environment to see through it; give "
                 "--sky, --environment or --sun-direct-normal");
         }
-        for (const std::string& text : input.portals)
-            description.environment->portals.push_back(parsePortal(text, description.origin));
+        for (const std::string& text : input.portals) {
+            if (text != "auto")
+                description.environment->portals.push_back(parsePortal(text, description.origin));
+        }
     }
+}
+
+// `scene` rebuilt with the openings detectPortals() finds added to its environment's portals; the
+// portals found are printed in --portal's form (the file's frame) unless `quiet`, so that a user
+// can give them again, or edit them.
+std::unique_ptr<Scene> withDetectedPortals(std::unique_ptr<Scene> scene, bool quiet) {
+    const std::vector<Portal> found = detectPortals(*scene);
+    const SceneDescription& description = scene->description();
+    if (found.empty()) {
+        std::cerr << "penumbra: warning: --portal auto: " << description.file
+                  << ": found no opening to the environment (no enclosed interior, or none of "
+                     "its rays leaves it); the environment is sampled without portals\n";
+        return scene;
+    }
+    if (!quiet) {
+        std::cerr << "penumbra: --portal auto: " << found.size() << " opening"
+                  << (found.size() > 1 ? "s" : "") << " found:\n";
+        for (const Portal& p : found) {
+            const glm::dvec3 o = description.origin, c0 = glm::dvec3(p.corner) + o,
+                             c1 = c0 + glm::dvec3(p.edge1), c2 = c0 + glm::dvec3(p.edge2);
+            std::cerr << std::setprecision(4) << "  --portal " << c0.x << "," << c0.y << "," << c0.z
+                      << "," << c1.x << "," << c1.y << "," << c1.z << "," << c2.x << "," << c2.y
+                      << "," << c2.z << "  (" << p.area() << " m²)\n";
+        }
+    }
+    SceneDescription withPortals = description;
+    for (const Portal& p : found)
+        withPortals.environment->portals.push_back(p);
+    return std::make_unique<Scene>(std::move(withPortals));
 }
 
 // The luminaire's frame from the script's aim and C0 direction: the nadir (-Z of the frame) along
@@ -374,6 +409,9 @@ std::unique_ptr<Scene> loadScene(const SceneInput& input) {
         }
     }
     auto scene = std::make_unique<Scene>(std::move(description));
+    const auto& portals = input.environment.portals;
+    if (std::find(portals.begin(), portals.end(), "auto") != portals.end())
+        scene = withDetectedPortals(std::move(scene), input.quiet);
     if (!input.quiet && scene->lights().empty()) {
         std::cerr << "penumbra: warning: " << input.path
                   << ": the scene has no lights and no emissive surfaces; the image will be "

@@ -32,7 +32,8 @@ struct EnvironmentInput {
     std::optional<float> northDegrees;     // true north from -Z, counter-clockwise seen from above
     std::optional<float> sunDirectNormal;  // E_n, lux, >= 0
     // Portals (--portal): parallelograms "X0,Y0,Z0,X1,Y1,Z1,X2,Y2,Z2" in the file's world frame,
-    // a corner and its two neighbours.
+    // a corner and its two neighbours, or "auto": the scene's openings, found
+    // (core/portal_detection.h).
     std::vector<std::string> portals;
 };
 

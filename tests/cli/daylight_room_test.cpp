@@ -4,11 +4,15 @@
 // elements through the opening as direct light, and the window shows the sky in every pipeline.
 #include "core/image.h"
 #include "tests/support/cli_runner.h"
+#include "tests/support/gltf_builder.h"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cstdio>
 #include <string>
+#include <utility>
 
 namespace penumbra::test {
 namespace {
@@ -53,6 +57,8 @@ void compare(const std::string& light, const char* name) {
         // it: 0.985-1.011 of the reference measured under the overcast sky, 0.980-1.006 with the
         // sun, held to the 2 %.
         {"radiosity", 16, portal, 0.02},
+        // The window found as a portal (--portal auto): as good as the one given.
+        {"radiosity", 16, " --portal auto", 0.02},
         // Without it, the view's corners find the sky through the window by the few of their
         // 64 + 64 fixed directions that pass the opening, the same at every corner, so the walls
         // show broad bands: 0.90-1.04 of the reference under the overcast sky, 0.956-1.023 with
@@ -80,6 +86,68 @@ TEST(DaylitRoom, ClearSkyAndTheSunThroughAWindow) {
         "--sky cie-clear --sky-illuminance 15000 --sun-direct-normal 60000 "
         "--site 39.742476,-105.1786 --time 2003-10-17T12:30:30-07:00",
         "sun");
+}
+
+// --portal auto finds the window: a rectangle in the wall's plane (z = 2) that covers the 2 x 1.5 m
+// opening, x in [-1, 1] and y in [0.75, 2.25], with a margin of a few centimetres (the detector's
+// half gap, a hundredth of the scene's bounding radius), and no other opening.
+TEST(DaylitRoom, FindsItsWindowAsAPortal) {
+    TempDir dir("daylit-room-auto-portal");
+    const CliResult r = runPenumbra("render " + kRoom + " -o " + dir.file("room.exr") +
+                                    " --width 8 --height 8 --spp 1 --sky cie-overcast "
+                                    "--portal auto");
+    ASSERT_EQ(r.status, 0) << r.output;
+    ASSERT_NE(r.output.find("1 opening found"), std::string::npos) << r.output;
+    const size_t at = r.output.find("  --portal ");
+    ASSERT_NE(at, std::string::npos) << r.output;
+    std::array<double, 9> c{};
+    ASSERT_EQ(std::sscanf(r.output.c_str() + at, "  --portal %lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf",
+                          &c[0], &c[1], &c[2], &c[3], &c[4], &c[5], &c[6], &c[7], &c[8]),
+              9)
+        << r.output;
+    // The four corners: c0, c1, c2 and c1 + c2 - c0.
+    double x0 = 1e9, x1 = -1e9, y0 = 1e9, y1 = -1e9;
+    for (int k = 0; k < 3; ++k) {
+        EXPECT_NEAR(c[3 * k + 2], 2.0, 1e-3) << "corner " << k << " off the wall's plane";
+        x0 = std::min(x0, c[3 * k]);
+        x1 = std::max(x1, c[3 * k]);
+        y0 = std::min(y0, c[3 * k + 1]);
+        y1 = std::max(y1, c[3 * k + 1]);
+    }
+    for (const auto& [found, window] : {std::pair{x0, -1.0}, {y0, 0.75}}) {
+        EXPECT_LE(found, window);
+        EXPECT_GE(found, window - 0.08);
+    }
+    for (const auto& [found, window] : {std::pair{x1, 1.0}, {y1, 2.25}}) {
+        EXPECT_GE(found, window);
+        EXPECT_LE(found, window + 0.08);
+    }
+}
+
+// A room without a window and a floor in the open have no opening: a warning, and the
+// environment is sampled as without portals.
+TEST(DaylitRoom, NoOpeningNoPortal) {
+    TempDir dir("daylit-room-no-opening");
+    GltfBuilder closed;
+    const int white = closed.addMaterial({.baseColor = Color(0.5f)});
+    // A 2-m cube, every face turned inwards.
+    closed.addQuad({-1, -1, -1}, {1, -1, -1}, {1, -1, 1}, {-1, -1, 1}, white);
+    closed.addQuad({-1, 1, -1}, {-1, 1, 1}, {1, 1, 1}, {1, 1, -1}, white);
+    closed.addQuad({-1, -1, -1}, {-1, 1, -1}, {1, 1, -1}, {1, -1, -1}, white);
+    closed.addQuad({-1, -1, 1}, {1, -1, 1}, {1, 1, 1}, {-1, 1, 1}, white);
+    closed.addQuad({-1, -1, -1}, {-1, -1, 1}, {-1, 1, 1}, {-1, 1, -1}, white);
+    closed.addQuad({1, -1, -1}, {1, 1, -1}, {1, 1, 1}, {1, -1, 1}, white);
+    closed.write(dir.file("closed.gltf"));
+    GltfBuilder open;
+    open.addQuad({-1, 0, 1}, {1, 0, 1}, {1, 0, -1}, {-1, 0, -1}, open.addMaterial({}));
+    open.write(dir.file("open.gltf"));
+    for (const char* scene : {"closed.gltf", "open.gltf"}) {
+        const CliResult r =
+            runPenumbra("render " + dir.file(scene) + " -o " + dir.file("out.exr") +
+                        " --width 4 --height 4 --spp 1 --sky uniform --portal auto");
+        EXPECT_EQ(r.status, 0) << r.output;
+        EXPECT_NE(r.output.find("found no opening"), std::string::npos) << scene << r.output;
+    }
 }
 
 }  // namespace
