@@ -28,14 +28,6 @@ inline constexpr int kFalseColourTickHeight = 3;  // division marks, below the b
 // no value (the cells of a workplane's bounding rectangle outside the workplane).
 inline constexpr float kFalseColourBackground = 0.01f;
 
-// The same layout under the names that `penumbra diff`, `penumbra illuminance` and their tests
-// use for the error heat map.
-inline constexpr int kHeatmapMinWidth = kFalseColourMinWidth;
-inline constexpr int kHeatmapLegendHeight = kFalseColourLegendHeight;
-inline constexpr int kHeatmapMargin = kFalseColourMargin;
-inline constexpr int kHeatmapBarTop = kFalseColourBarTop;
-inline constexpr int kHeatmapBarHeight = kFalseColourBarHeight;
-
 enum class FalseColourScale { Linear, Log };
 
 // How values become colours. Values are in whatever unit the image holds (cd/m², lux, a

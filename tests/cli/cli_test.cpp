@@ -582,6 +582,23 @@ TEST(Cli, AovLayersInTheExr) {
     EXPECT_LT(centreDepth, 1.5f);
 }
 
+// The channel values of an 8-bit `png` that are not the sRGB code of `exr`'s pixel shown by
+// `display`.
+size_t codeMismatches(const Image& png, const Image& exr, const ToneMapping& display) {
+    size_t mismatches = 0;
+    for (int y = 0; y < png.height(); ++y) {
+        for (int x = 0; x < png.width(); ++x) {
+            const Color shown =
+                display.apply(Color(exr.at(x, y, 0), exr.at(x, y, 1), exr.at(x, y, 2)));
+            for (int c = 0; c < 3; ++c) {
+                const float code = png.at(x, y, c) * 255.0f;
+                mismatches += std::abs(code - encodeSrgb8(shown[c])) > 1e-3f ? 1 : 0;
+            }
+        }
+    }
+    return mismatches;
+}
+
 TEST(Cli, PngIsEightBitSrgbOfTheBeauty) {
     TempDir dir("cli-png");
     const CliResult result =
@@ -594,19 +611,7 @@ TEST(Cli, PngIsEightBitSrgbOfTheBeauty) {
     ASSERT_EQ(png.height(), 24);
     ASSERT_EQ(png.channels(), 3);
     // Same beauty, so each 8-bit code is exactly the sRGB encoding of the clamped EXR value.
-    const ToneMapping display{};
-    size_t mismatches = 0;
-    for (int y = 0; y < png.height(); ++y) {
-        for (int x = 0; x < png.width(); ++x) {
-            const Color shown =
-                display.apply(Color(exr.at(x, y, 0), exr.at(x, y, 1), exr.at(x, y, 2)));
-            for (int c = 0; c < 3; ++c) {
-                const float code = png.at(x, y, c) * 255.0f;
-                mismatches += std::abs(code - encodeSrgb8(shown[c])) > 1e-3f ? 1 : 0;
-            }
-        }
-    }
-    EXPECT_EQ(mismatches, 0u);
+    EXPECT_EQ(codeMismatches(png, exr, ToneMapping{}), 0u);
 }
 
 // --exposure auto: the PNG is the EXR shown at the exposure that puts its log-average luminance
@@ -621,17 +626,7 @@ TEST(Cli, AutomaticExposure) {
     const Image png = readImage(dir.file("beauty.png"));
     const float ev = automaticExposure(exr);
     EXPECT_NE(result.output.find("automatic exposure"), std::string::npos) << result.output;
-    const ToneMapping display{ev, ToneMapOperator::Clamp};
-    size_t mismatches = 0;
-    for (int y = 0; y < png.height(); ++y) {
-        for (int x = 0; x < png.width(); ++x) {
-            const Color shown =
-                display.apply(Color(exr.at(x, y, 0), exr.at(x, y, 1), exr.at(x, y, 2)));
-            for (int c = 0; c < 3; ++c)
-                mismatches += std::abs(png.at(x, y, c) * 255.0f - encodeSrgb8(shown[c])) > 1.5f;
-        }
-    }
-    EXPECT_EQ(mismatches, 0u);
+    EXPECT_EQ(codeMismatches(png, exr, ToneMapping{ev, ToneMapOperator::Clamp}), 0u);
 }
 
 }  // namespace

@@ -207,15 +207,16 @@ TEST_F(DiffCli, HeatmapHasTheMapAndALegend) {
     ASSERT_EQ(result.status, 0) << result.output;
     const Image map = readImage(file("map.png"));
     // The map at the top left, the legend below; the picture is wider than the 48-px input.
-    ASSERT_EQ(map.width(), kHeatmapMinWidth);
-    ASSERT_EQ(map.height(), 32 + kHeatmapLegendHeight);
+    ASSERT_EQ(map.width(), kFalseColourMinWidth);
+    ASSERT_EQ(map.height(), 32 + kFalseColourLegendHeight);
     // The bar's ends hold viridis's first and last colours, sRGB-encoded in the PNG (van der
     // Walt and Smith's table: (0.267, 0.005, 0.329) and (0.993, 0.906, 0.144)).
-    const int barY = 32 + kHeatmapBarTop + kHeatmapBarHeight / 2;
+    const int barY = 32 + kFalseColourBarTop + kFalseColourBarHeight / 2;
     const float first[3] = {0.267f, 0.005f, 0.329f}, last[3] = {0.993f, 0.906f, 0.144f};
     for (int c = 0; c < 3; ++c) {
-        EXPECT_NEAR(map.at(kHeatmapMargin, barY, c), first[c], 0.02) << c;
-        EXPECT_NEAR(map.at(kHeatmapMinWidth - kHeatmapMargin - 1, barY, c), last[c], 0.02) << c;
+        EXPECT_NEAR(map.at(kFalseColourMargin, barY, c), first[c], 0.02) << c;
+        EXPECT_NEAR(map.at(kFalseColourMinWidth - kFalseColourMargin - 1, barY, c), last[c], 0.02)
+            << c;
     }
     EXPECT_TRUE(contains(result.output, "heat map")) << result.output;
 }

@@ -321,20 +321,22 @@ TEST(Heatmap, ColoursFollowTheErrorAndTheLegendHasABar) {
     error.at(11, 20, 0) = std::numeric_limits<float>::quiet_NaN();
     HeatmapLegend legend;
     const Image picture = renderHeatmap(error, "test", legend);
-    EXPECT_EQ(picture.width(), kHeatmapMinWidth);
-    EXPECT_EQ(picture.height(), 30 + kHeatmapLegendHeight);
+    EXPECT_EQ(picture.width(), kFalseColourMinWidth);
+    EXPECT_EQ(picture.height(), 30 + kFalseColourLegendHeight);
     EXPECT_DOUBLE_EQ(legend.high, 1.0);
     EXPECT_NEAR(legend.low, 1e-4, 1e-12);
     EXPECT_EQ(legend.nonFinite, 1u);
     // Viridis in linear RGB (OpenImageIO's table): first entry (0.0580, 0.0004, 0.0887), last
     // (0.9847, 0.7997, 0.0182).
     const float first[3] = {0.0580f, 0.0004f, 0.0887f}, last[3] = {0.9847f, 0.7997f, 0.0182f};
-    const int barY = 30 + kHeatmapBarTop + kHeatmapBarHeight / 2;
+    const int barY = 30 + kFalseColourBarTop + kFalseColourBarHeight / 2;
     for (int c = 0; c < 3; ++c) {
         EXPECT_NEAR(picture.at(0, 0, c), first[c], 2e-3) << c;
         EXPECT_NEAR(picture.at(10, 20, c), last[c], 2e-3) << c;
-        EXPECT_NEAR(picture.at(kHeatmapMargin, barY, c), first[c], 2e-2) << c;
-        EXPECT_NEAR(picture.at(kHeatmapMinWidth - kHeatmapMargin - 1, barY, c), last[c], 2e-2) << c;
+        EXPECT_NEAR(picture.at(kFalseColourMargin, barY, c), first[c], 2e-2) << c;
+        EXPECT_NEAR(picture.at(kFalseColourMinWidth - kFalseColourMargin - 1, barY, c), last[c],
+                    2e-2)
+            << c;
     }
     EXPECT_EQ(picture.at(11, 20, 0), 1.0f);
     EXPECT_EQ(picture.at(11, 20, 1), 0.0f);
@@ -342,7 +344,7 @@ TEST(Heatmap, ColoursFollowTheErrorAndTheLegendHasABar) {
     // Labels: where the font was found, white text appears in the strip below the bar.
     if (legend.labelled) {
         float brightest = 0.0f;
-        for (int y = 30 + kHeatmapBarTop + kHeatmapBarHeight; y < picture.height(); ++y) {
+        for (int y = 30 + kFalseColourBarTop + kFalseColourBarHeight; y < picture.height(); ++y) {
             for (int x = 0; x < picture.width(); ++x)
                 brightest = std::max(brightest, picture.at(x, y, 1));
         }
