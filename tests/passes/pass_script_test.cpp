@@ -74,10 +74,12 @@ TEST_F(PassScriptTest, ReadsEveryTopLevelKey) {
               "spp = 16\n"
               "seed = 4294967295\n"
               "output = [\"../images/a.exr\", \"b.png\"]\n"
+              "portals = [\"0,0,0,1,0,0,0,1,0\", \"auto\"]\n"
               "[[pass]]\n"
               "type = \"radiosity\"\n"
               "epsilon = 0.005\n");
     const PassScript script = loadPassScript(path);
+    EXPECT_EQ(script.portals, (std::vector<std::string>{"0,0,0,1,0,0,0,1,0", "auto"}));
     EXPECT_EQ(script.file, path);
     // Paths in the script are relative to the script's folder.
     EXPECT_EQ(fs::path(script.scene), fs::path(dir_.file("model.gltf")).lexically_normal());
@@ -93,7 +95,7 @@ TEST_F(PassScriptTest, ReadsEveryTopLevelKey) {
     ASSERT_EQ(script.passes.size(), 1u);
     EXPECT_EQ(script.passes[0].type, "radiosity");
     EXPECT_EQ(script.passes[0].parameters.path(), "pass[0]");
-    EXPECT_EQ(script.passes[0].parameters.location().line, 9);
+    EXPECT_EQ(script.passes[0].parameters.location().line, 10);
     EXPECT_EQ(script.passes[0].parameters.location().column, 1);
 
     const Pipeline pipeline = makeScriptPipeline(script);
