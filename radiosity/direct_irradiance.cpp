@@ -70,7 +70,8 @@ void DirectIrradiance::setTransferred(const std::vector<FluxDeposit>& deposits) 
 // and Greenberg 1988). The deposited flux (the caustic photons', deposited_flux.h) adds its mean
 // irradiance over the element, Phi / A, divided by pi, to D; it leaves the spread alone, so that
 // photon noise does not drive refineDirect().
-uint64_t DirectIrradiance::compute(const std::vector<int>& elements, SolveProgress* progress) {
+uint64_t DirectIrradiance::compute(const std::vector<int>& elements, SolveProgress* progress,
+                                   const std::function<bool(size_t done)>& stop, bool* stopped) {
     const std::vector<const Light*> lights = punctualLights(scene_);
     const bool sources = !lights.empty() || scene_.environment();
     if ((!sources && !deposits_) || elements.empty())
@@ -79,25 +80,30 @@ uint64_t DirectIrradiance::compute(const std::vector<int>& elements, SolveProgre
         deposits_->update();
     const int n = samples_;
     std::atomic<uint64_t> rays{0};
-    parallelForWithProgress(elements.size(), progress, [&](size_t i) {
-        const int e = elements[i];
-        const PunctualDirect direct =
-            !sources ? PunctualDirect{}
-                     : punctualDirect(scene_, mesh_, e, lights, n, ElementExposure::kPointSeed,
-                                      &exposure_.coincident());
-        rays += direct.rays;
-        for (int side = 0; side < 2; ++side) {
-            const int nd = node(e, side == 0);
-            // The mean over the exposed part: the covered points' shadow rays are blocked.
-            const float exposed = exposure_.fraction(nd);
-            D_[nd] = exposed > 0.0f ? direct.D[side] / exposed : direct.D[side];
-            Denvironment_[nd] =
-                exposed > 0.0f ? direct.environment[side] / exposed : direct.environment[side];
-            if (deposits_)
-                D_[nd] += depositedD(*deposits_, e, side == 0);
-            Dspread_[nd] = direct.spread[side];
-        }
-    });
+    const bool completed = parallelForWithProgress(
+        elements.size(), progress,
+        [&](size_t i) {
+            const int e = elements[i];
+            const PunctualDirect direct =
+                !sources ? PunctualDirect{}
+                         : punctualDirect(scene_, mesh_, e, lights, n, ElementExposure::kPointSeed,
+                                          &exposure_.coincident());
+            rays += direct.rays;
+            for (int side = 0; side < 2; ++side) {
+                const int nd = node(e, side == 0);
+                // The mean over the exposed part: the covered points' shadow rays are blocked.
+                const float exposed = exposure_.fraction(nd);
+                D_[nd] = exposed > 0.0f ? direct.D[side] / exposed : direct.D[side];
+                Denvironment_[nd] =
+                    exposed > 0.0f ? direct.environment[side] / exposed : direct.environment[side];
+                if (deposits_)
+                    D_[nd] += depositedD(*deposits_, e, side == 0);
+                Dspread_[nd] = direct.spread[side];
+            }
+        },
+        stop);
+    if (stopped)
+        *stopped = !completed;
     return rays;
 }
 

@@ -18,6 +18,7 @@
 #include "radiosity/solve_progress.h"
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -38,8 +39,12 @@ class DirectIrradiance {
     // A new child's side starts from its parent's until compute() samples its own.
     void inherit(int childNode, int parentNode);
     // D and its spread for both sides of `elements`. With `progress`, advances its current stage
-    // by one per element. Returns the shadow rays it cast.
-    uint64_t compute(const std::vector<int>& elements, SolveProgress* progress = nullptr);
+    // by one per element. Returns the shadow rays it cast. `stop`, when given, is asked between
+    // chunks of elements with the number done: once it says yes the rest is left as it was and
+    // `*stopped` (if given) is set.
+    uint64_t compute(const std::vector<int>& elements, SolveProgress* progress = nullptr,
+                     const std::function<bool(size_t done)>& stop = nullptr,
+                     bool* stopped = nullptr);
 
     // What D() shows: everything (the default), the sources' part only, or nothing; the
     // solver's first reflection of the emission gathers with less for a sweep.

@@ -8,6 +8,7 @@
 #include "radiosity/radiosity_solver.h"
 #include "radiosity/solve_progress.h"
 #include "tests/support/cli_runner.h"
+#include "tests/support/gltf_builder.h"
 #include "tests/support/radiosity_scenes.h"
 
 #include <gtest/gtest.h>
@@ -126,6 +127,38 @@ TEST(SolveDeadline, HybridWithoutTimeForTheSolveRendersThePathTracersImage) {
         differing += hybrid.pixels()[i] != traced.pixels()[i];
     EXPECT_EQ(differing, 0u);
     EXPECT_GT(luminanceMean(traced), 0.0);
+}
+
+TEST(SolveDeadline, TheHybridGivesUpASolveWhoseDirectLightAloneTakesHalfItsShare) {
+    // A floor of 180 000 triangles under a sky: the sky's direct light on every patch (its first
+    // stage) takes seconds, and a second's time limit cannot pay for it; the solve is abandoned
+    // within that stage, once a twentieth of it says so, not after it.
+    GltfBuilder scene;
+    const int grey = scene.addMaterial({.baseColor = Color(0.5f)});
+    constexpr int kCells = 300;
+    std::vector<Vec3> positions;
+    std::vector<uint32_t> indices;
+    for (int j = 0; j <= kCells; ++j)
+        for (int i = 0; i <= kCells; ++i)
+            positions.push_back(
+                Vec3(float(i) / kCells * 10.0f - 5.0f, 0.0f, 5.0f - float(j) / kCells * 10.0f));
+    for (int j = 0; j < kCells; ++j) {
+        for (int i = 0; i < kCells; ++i) {
+            const uint32_t a = uint32_t(j * (kCells + 1) + i), b = a + 1,
+                           c = a + uint32_t(kCells + 1), d = c + 1;
+            indices.insert(indices.end(), {a, b, d, a, d, c});
+        }
+    }
+    scene.addMesh(positions, indices, grey);
+    TempDir dir("solve-deadline-direct");
+    scene.write(dir.file("floor.gltf"));
+    CliResult run;
+    renderImage(dir.file("floor.gltf"), dir.file("floor.exr"),
+                "--pipeline hybrid --sky uniform --time-limit 1 --width 8 --height 8 --threads 2",
+                &run);
+    EXPECT_NE(run.output.find("direct light of the punctual lights: abandoned"), std::string::npos)
+        << run.output;
+    EXPECT_NE(run.output.find("abandoned_by_time_limit: yes"), std::string::npos) << run.output;
 }
 
 TEST(SolveDeadline, DistributionWithoutTimeForTheSolveStillSeesTheIndirectLight) {
