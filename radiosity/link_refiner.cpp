@@ -164,7 +164,7 @@ void LinkRefiner::refine(std::vector<RefinePair> batch, std::vector<PendingLink>
         std::vector<RefinePair> next;
         // In slices, so that a time limit is seen within a level too (setTimeLimit).
         for (size_t begin = 0; begin < batch.size(); begin += kRefineSlice) {
-            if (timeIsUp() && linking_ && onTimeUp_ == OnTimeUp::Abandon) {
+            if (linking_ && onTimeUp_ == OnTimeUp::Abandon && (timeIsUp() || oracleTooLong())) {
                 abandoned_ = true;
                 return;
             }
@@ -228,6 +228,17 @@ void LinkRefiner::refineSlice(std::span<const RefinePair> batch, std::vector<Ref
 void LinkRefiner::setTimeLimit(Deadline deadline, OnTimeUp onTimeUp) {
     deadline_ = deadline;
     onTimeUp_ = onTimeUp;
+}
+
+// The links the oracle decides must all be evaluated after it, which costs more than deciding
+// them: an oracle that has used half of the time its linking had left will not see its links
+// made in time (the grey-white room lit by its sky: 39 s of oracle, then abandoned at the
+// deadline, leaving the path tracer 13 s of 64).
+bool LinkRefiner::oracleTooLong() const {
+    if (!deadline_)
+        return false;
+    const auto now = std::chrono::steady_clock::now();
+    return now - linkingStart_ > (*deadline_ - linkingStart_) / 2;
 }
 
 bool LinkRefiner::timeIsUp() {
@@ -417,6 +428,7 @@ void LinkRefiner::evaluateLinks(const std::vector<PendingLink>& pending, const s
 // with clusters, the root cluster's self-link).
 void LinkRefiner::linkPatches(const std::string& step, float epsilonScale) {
     linking_ = true;
+    linkingStart_ = std::chrono::steady_clock::now();
     updateThresholds(false, epsilonScale);
     if (clusters_) {
         refineAndLink({{clusterNode(0), clusterNode(0)}}, step);

@@ -111,6 +111,9 @@ class LinkRefiner {
     bool exceedsThreshold(int receiver, int source, const LinkErrors& errors) const;
     // Whether the deadline has passed (setTimeLimit); sets coarse_ when it has.
     bool timeIsUp();
+    // Whether the initial linking's oracle has used half of the time its linking had left
+    // (OnTimeUp::Abandon only: then the solve is abandoned).
+    bool oracleTooLong() const;
     bool smallTransfer(int source, float Fmax) const;
     void updateThresholds(bool relativeFloor, float epsilonScale = 1.0f);
 
@@ -132,7 +135,8 @@ class LinkRefiner {
     Color relativeFloor_{0.0f};
     Deadline deadline_;
     OnTimeUp onTimeUp_ = OnTimeUp::Coarsen;
-    bool linking_ = false;      // in linkPatches(), where the refinement may be abandoned
+    bool linking_ = false;  // in linkPatches(), where the refinement may be abandoned
+    std::chrono::steady_clock::time_point linkingStart_;  // when linkPatches() began
     bool coarse_ = false;       // the time was up: the oracle refines nothing more
     bool abandoned_ = false;    // the initial linking stopped with the time (OnTimeUp::Abandon)
     std::vector<int> created_;  // elements split off since the last finishSplits()

@@ -313,9 +313,10 @@ void RadiositySolver::solve(SolveProgress* progress, LinkRefiner::Deadline deadl
     // direct light, then the linking abandoned; the path tracer lost 9 s of its 16).
     const double secondsLeft =
         deadline ? std::chrono::duration<double>(*deadline - start).count() : 0.0;
+    const auto directStart = std::chrono::steady_clock::now();
     const std::function<bool(size_t)> tooSlow = [&](size_t done) {
-        const double elapsed = secondsSince(start);
-        return projectedToOverrun(elapsed, done, leaves.size(), 0.5 * secondsLeft - elapsed);
+        return projectedToOverrun(secondsSince(directStart), done, leaves.size(),
+                                  0.5 * secondsLeft - secondsSince(start));
     };
     const bool mayAbandon = deadline && onTimeUp == LinkRefiner::OnTimeUp::Abandon;
     bool stopped = false;
