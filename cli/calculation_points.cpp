@@ -273,7 +273,8 @@ void checkPointsOutputPath(const std::string& path) {
 
 void writePointIlluminance(const std::string& path, const std::vector<CalculationPoint>& points,
                            const std::vector<PointIlluminance>& results,
-                           std::optional<double> skyHorizontalIlluminance) {
+                           std::optional<double> skyHorizontalIlluminance,
+                           const GroupColumns& groups) {
     const fs::path output(path);
     fs::path temporary = output;
     temporary.replace_filename(output.stem().string() + ".tmp-" + std::to_string(getpid()) +
@@ -284,6 +285,8 @@ void writePointIlluminance(const std::string& path, const std::vector<Calculatio
         out << "x,y,z,nx,ny,nz,illuminance_lux,stderr_lux";
         if (skyHorizontalIlluminance)
             out << ",daylight_factor_percent,stderr_percent";
+        for (const auto& [name, column] : groups)
+            out << ",illuminance_lux_" << name << ",stderr_lux_" << name;
         out << "\n";
         for (size_t i = 0; i < points.size(); ++i) {
             for (double value : points[i].given)
@@ -293,6 +296,8 @@ void writePointIlluminance(const std::string& path, const std::vector<Calculatio
                 const double percent = 100.0 / *skyHorizontalIlluminance;
                 out << "," << results[i].lux * percent << "," << results[i].standardError * percent;
             }
+            for (const auto& [name, column] : groups)
+                out << "," << column[i].lux << "," << column[i].standardError;
             out << "\n";
         }
         out.flush();

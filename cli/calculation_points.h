@@ -14,6 +14,7 @@
 #include <array>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace penumbra::cli {
@@ -75,8 +76,12 @@ void checkPointsOutputPath(const std::string& path);
 // complete (nothing half-written is left on failure). Throws InputError when it cannot. With a
 // sky's unobstructed horizontal illuminance E_h (lux), two more columns follow:
 // daylight_factor_percent and its stderr_percent, 100 E / E_h.
+// After them, for each light group (render's --light-groups, core/light_groups.h), the columns
+// illuminance_lux_GROUP,stderr_lux_GROUP.
+using GroupColumns = std::vector<std::pair<std::string, std::vector<PointIlluminance>>>;
 void writePointIlluminance(const std::string& path, const std::vector<CalculationPoint>& points,
                            const std::vector<PointIlluminance>& results,
-                           std::optional<double> skyHorizontalIlluminance = std::nullopt);
+                           std::optional<double> skyHorizontalIlluminance = std::nullopt,
+                           const GroupColumns& groups = {});
 
 }  // namespace penumbra::cli

@@ -7,6 +7,7 @@
 #include "core/errors.h"
 #include "core/heatmap.h"
 #include "core/image_io.h"
+#include "core/light_groups.h"
 #include "core/progress.h"
 #include "core/scene_contents.h"
 #include "core/sky.h"
@@ -21,7 +22,9 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <iostream>
+#include <limits>
 
 namespace penumbra::cli {
 
@@ -36,6 +39,7 @@ struct IlluminanceOptions {
     IlluminanceSettings settings;
     int threads = 0;
     bool daylightFactor = false;
+    bool lightGroups = false;
     std::string grid, gridPolygon, gridFloor;
     std::string picture;
 };
@@ -210,13 +214,6 @@ void measure(IlluminanceOptions& options) {
     const std::vector<CalculationPoint>& points = workplane ? grid.points : givenPoints;
     const int threads = options.threads > 0 ? options.threads : tbb::info::default_concurrency();
     tbb::global_control parallelism(tbb::global_control::max_allowed_parallelism, threads);
-    const PreparedPipeline pipeline(script ? makeScriptPipeline(*script, PassOverrides{})
-                                           : makePipelinePreset(options.pipeline, RenderSettings{}),
-                                    *scene, settings, options.scene.quiet);
-    // The solve counts against the time limit; the samples get what is left (at least a round).
-    if (settings.timeLimit > 0.0)
-        settings.timeLimit = std::max(settings.timeLimit - secondsSince(start), 1e-9);
-
     // The points are in the file's world frame; the scene is stored relative to its origin
     // (core/scene_description.h).
     const glm::dvec3 origin = scene->description().origin;
@@ -226,12 +223,59 @@ void measure(IlluminanceOptions& options) {
         const glm::dvec3 p(point.given[0], point.given[1], point.given[2]);
         sensors.push_back(Sensor{Vec3(p - origin), point.normal});
     }
-    std::vector<SensorReading> readings;
-    {
-        Progress progress("illuminance", uint64_t(sensors.size()) * uint64_t(settings.samples),
+    // The sensors' readings in `lit` (the scene, or one light group's), with the pipeline
+    // prepared over it; its solve counts against `budget` (seconds, 0 = none), the samples get
+    // what is left (at least a round).
+    std::string pipelineName;
+    const auto readingsIn = [&](const Scene& lit, double budget, const std::string& what) {
+        const auto begin = std::chrono::steady_clock::now();
+        const PreparedPipeline pipeline(
+            script ? makeScriptPipeline(*script, PassOverrides{})
+                   : makePipelinePreset(options.pipeline, RenderSettings{}),
+            lit, settings, options.scene.quiet);
+        pipelineName = pipeline.name();
+        IlluminanceSettings share = settings;
+        share.timeLimit = budget > 0.0 ? std::max(budget - secondsSince(begin), 1e-9) : 0.0;
+        Progress progress(what, uint64_t(sensors.size()) * uint64_t(settings.samples),
                           options.scene.quiet);
-        readings = measureIlluminance(*scene, pipeline.estimator(), sensors, settings, &progress);
+        std::vector<SensorReading> readings =
+            measureIlluminance(lit, pipeline.estimator(), sensors, share, &progress);
         progress.finish();
+        return readings;
+    };
+    const double budget =
+        settings.timeLimit > 0.0 ? std::max(settings.timeLimit - secondsSince(start), 1e-9) : 0.0;
+    std::vector<SensorReading> readings;
+    // Per light group (core/light_groups.h): its readings, which sum to the whole scene's.
+    GroupColumns groupColumns;
+    if (!options.lightGroups) {
+        readings = readingsIn(*scene, budget, "illuminance");
+    } else {
+        const std::vector<LightGroup> groups = lightGroups(scene->description());
+        if (groups.empty()) {
+            throw UsageError(scene->description().file +
+                             ": --light-groups: the scene has no light source to split into "
+                             "groups");
+        }
+        readings.assign(sensors.size(), SensorReading{});
+        for (size_t k = 0; k < readings.size(); ++k)
+            readings[k].samples = std::numeric_limits<int>::max();
+        for (const LightGroup& group : groups) {
+            const Scene lit(litOnlyBy(scene->description(), group));
+            const std::vector<SensorReading> part =
+                readingsIn(lit, budget / double(groups.size()), "illuminance, " + group.name);
+            std::vector<PointIlluminance> column;
+            for (size_t k = 0; k < part.size(); ++k) {
+                column.push_back({part[k].lux, part[k].standardError});
+                SensorReading& sum = readings[k];
+                sum.lux += part[k].lux;
+                // Independent estimates: their variances add.
+                sum.standardError = std::hypot(sum.standardError, part[k].standardError);
+                sum.samples = std::min(sum.samples, part[k].samples);
+                sum.dropped += part[k].dropped;
+            }
+            groupColumns.emplace_back(group.name, std::move(column));
+        }
     }
 
     std::vector<PointIlluminance> results;
@@ -242,7 +286,7 @@ void measure(IlluminanceOptions& options) {
         samples = std::min(samples, r.samples);
         dropped += r.dropped;
     }
-    writePointIlluminance(options.output, points, results, skyHorizontalIlluminance);
+    writePointIlluminance(options.output, points, results, skyHorizontalIlluminance, groupColumns);
     if (!options.picture.empty())
         writeGridPicture(options.picture, grid, results);
     if (dropped > 0) {
@@ -251,7 +295,7 @@ void measure(IlluminanceOptions& options) {
     }
     if (!options.scene.quiet) {
         std::cerr << "penumbra: wrote " << options.output << ": " << points.size() << " points, "
-                  << samples << " samples each, pipeline " << pipeline.name() << ", "
+                  << samples << " samples each, pipeline " << pipelineName << ", "
                   << secondsSince(start) << " s\n";
     }
 }
@@ -308,6 +352,11 @@ Command addIlluminanceCommand(CLI::App& app) {
     command->add_flag("--daylight-factor", options->daylightFactor,
                       "Also write each point's daylight factor, 100 E / E_h in percent, E_h the "
                       "overcast sky's unobstructed horizontal illuminance (--sky-illuminance)");
+    command->add_flag("--light-groups", options->lightGroups,
+                      "Measure each light source group alone (as render --light-groups) and add "
+                      "the columns illuminance_lux_GROUP,stderr_lux_GROUP per group; the "
+                      "illuminance is their sum. Costs a measurement per group: --time-limit is "
+                      "shared among them");
     return [options] { measure(*options); };
 }
 

@@ -4,11 +4,13 @@
 // and in the pipelines that reuse a radiosity solution.
 #include "core/image_io.h"
 #include "tests/support/cli_runner.h"
+#include "tests/support/csv_table.h"
 #include "tests/support/gltf_builder.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
 #include <numbers>
 
 namespace penumbra::test {
@@ -166,6 +168,38 @@ TEST(LightGroups, TheSunAndTheSkyAreSplit) {
     // (32 x 32 x 16) leave a standard error of its mean well under 1 %.
     EXPECT_NEAR(regionMean(image, channel(image, "light.sun.G"), 0, 0, 32, 32), sun, 0.005 * sun);
     EXPECT_NEAR(regionMean(image, channel(image, "light.sky.G"), 0, 0, 32, 32), sky, 0.02 * sky);
+}
+
+// `penumbra illuminance --light-groups`: a column pair per group, each point light's own
+// I cos(theta) / d² (a grey floor under two point lights reflects nothing back up), their sum in
+// illuminance_lux.
+TEST(LightGroups, IlluminanceHasAColumnPerGroup) {
+    TempDir dir("light-groups-illuminance");
+    GltfBuilder scene = floorSeenFromAbove();
+    scene.addLight(kLightA);
+    scene.addLight(kLightB);
+    scene.write(dir.file("scene.gltf"));
+    std::ofstream(dir.file("points.csv")) << "0,0,0,0,1,0\n1.5,0,-1,0,1,0\n";
+    const CliResult r = runPenumbra("illuminance " + dir.file("scene.gltf") + " --points " +
+                                    dir.file("points.csv") + " -o " + dir.file("lux.csv") +
+                                    " --light-groups --spp 4 --quiet");
+    ASSERT_EQ(r.status, 0) << r.output;
+    const CsvTable table = readCsvTable(dir.file("lux.csv"));
+    EXPECT_EQ(
+        table.header,
+        "x,y,z,nx,ny,nz,illuminance_lux,stderr_lux,illuminance_lux_light-A,stderr_lux_light-A,"
+        "illuminance_lux_light-B,stderr_lux_light-B");
+    ASSERT_EQ(table.rows.size(), 2u);
+    for (const std::vector<double>& row : table.rows) {
+        ASSERT_EQ(row.size(), 12u);
+        const Vec3 p{float(row[0]), float(row[1]), float(row[2])};
+        // Lux is the Rec. 709 luminance of the irradiance: B is red, Y = 0.2126 of it.
+        const double a = pointLightRadiance(kLightA, p) * std::numbers::pi / kAlbedo;
+        const double b = 0.2126 * pointLightRadiance(kLightB, p) * std::numbers::pi / kAlbedo;
+        EXPECT_NEAR(row[8], a, 1e-4 * a);
+        EXPECT_NEAR(row[10], b, 1e-4 * b);
+        EXPECT_NEAR(row[6], row[8] + row[10], 1e-6 * row[6]);
+    }
 }
 
 TEST(LightGroups, ASceneWithoutLightIsRefused) {
