@@ -1,6 +1,7 @@
 // `penumbra info SCENE`: what a scene contains and how penumbra reads it.
 #include "cli/commands.h"
 #include "cli/scene_input.h"
+#include "core/light_groups.h"
 #include "core/scene.h"
 #include "passes/pipeline.h"
 
@@ -52,6 +53,10 @@ void printInfo(const Scene& scene) {
     std::cout << "\nlights:     " << scene.lights().size();
     for (const auto& [kind, count] : lightCounts)
         std::cout << ", " << count << " " << kind;
+    // The layers `render --light-groups` would write.
+    std::cout << "\nlight groups:";
+    for (const LightGroup& group : lightGroups(desc))
+        std::cout << " " << group.name;
     const Bounds3& b = scene.bounds();
     std::cout << "\nbounds:     (" << b.lo.x << ", " << b.lo.y << ", " << b.lo.z << ") to ("
               << b.hi.x << ", " << b.hi.y << ", " << b.hi.z << ") m, relative to (" << desc.origin.x

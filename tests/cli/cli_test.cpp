@@ -374,6 +374,8 @@ TEST(Cli, InfoOnTheCornellBox) {
     EXPECT_EQ(result.status, 0) << result.output;
     EXPECT_TRUE(contains(result.output, "triangles:  32\n")) << result.output;
     EXPECT_TRUE(contains(result.output, "cameras:    1 'cornell_camera'")) << result.output;
+    // Its one emissive material, the group `render --light-groups` would write.
+    EXPECT_TRUE(contains(result.output, "light groups: emissive-light\n")) << result.output;
 }
 
 TEST(Cli, SceneWithoutLightsRendersBlackWithAWarning) {
