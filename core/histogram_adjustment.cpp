@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <numeric>
 #include <stdexcept>
 #include <vector>
@@ -12,7 +13,6 @@ namespace {
 
 constexpr double kLowestLuminance = 1e-4;  // cd/m², the lower threshold of vision (§4.2)
 constexpr double kTrimTolerance = 0.025;   // of the original count (§4.4, its footnote 1)
-constexpr double kPi = 3.14159265358979323846;
 
 void checkDisplay(const HistogramAdjustmentSettings& settings) {
     const double Ldmin = settings.displayMinimum, Ldmax = settings.displayMaximum;
@@ -52,7 +52,8 @@ struct Grid {
 };
 
 double luminance(const Grid& rgb, int x, int y) {
-    // Rec. 709 Y, as core/math.h's luminance()
+    // Rec. 709 Y, as core/math.h's luminance(), in double: the mapping's monotonicity across
+    // neighbouring pixels must not rest on float rounding.
     return 0.2126 * rgb.at(x, y, 0) + 0.7152 * rgb.at(x, y, 1) + 0.0722 * rgb.at(x, y, 2);
 }
 
@@ -104,7 +105,7 @@ Grid halve(const Grid& fine) {
 // image centre; toward the corners of a wide view a pixel spans a little less angle, so the blur
 // there is slightly too weak.
 Grid blurByAcuity(const Grid& rgb, const Grid& fovea, double tanHalfWidth) {
-    const double pixelsPerDegree = 0.5 * rgb.width / tanHalfWidth * kPi / 180.0;
+    const double pixelsPerDegree = 0.5 * rgb.width / tanHalfWidth * std::numbers::pi / 180.0;
     Grid acuity(fovea.width, fovea.height, 1);
     double lowest = std::numeric_limits<double>::infinity();
     for (int j = 0; j < fovea.height; ++j)
@@ -308,7 +309,7 @@ Image histogramAdjust(const Image& sceneLinear, const HistogramAdjustmentSetting
                 rgb.at(x, y, c) = float(finiteOrZero(sceneLinear.at(x, y, channels[c])));
 
     // The order of §6's match_visibility(): foveal samples, acuity blur, histogram, mapping
-    const double tanHalfWidth = std::tan(0.5 * double(fov) * kPi / 180.0);
+    const double tanHalfWidth = std::tan(0.5 * double(fov) * std::numbers::pi / 180.0);
     const Grid fovea = fovealLuminance(rgb, tanHalfWidth);
     if (settings.humanAcuity)
         rgb = blurByAcuity(rgb, fovea, tanHalfWidth);

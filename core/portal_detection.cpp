@@ -30,12 +30,6 @@ std::optional<SurfaceHit> firstOpaqueHit(const Scene& scene, Ray ray) {
     return std::nullopt;  // a stack of panes: treated as open
 }
 
-// A unit vector perpendicular to unit `d`.
-Vec3 perpendicular(const Vec3& d) {
-    const Vec3 a = std::abs(d.x) < 0.9f ? Vec3(1, 0, 0) : Vec3(0, 1, 0);
-    return glm::normalize(glm::cross(d, a));
-}
-
 // The share of `directions` (unit vectors) from p that hit an opaque surface.
 float enclosure(const Scene& scene, const Vec3& p, const std::vector<Vec3>& directions) {
     int hits = 0;
@@ -54,7 +48,8 @@ struct Crossing {
 // wall around the opening, not the reveals along the ray); the crossing is d's intersection with
 // the plane of the nearest such hit.
 std::optional<Crossing> crossing(const Scene& scene, const Vec3& p, const Vec3& d) {
-    const Vec3 u = perpendicular(d), v = glm::cross(d, u);
+    const Frame frame = Frame::fromNormal(d);
+    const Vec3 &u = frame.s, &v = frame.t;
     for (const float degrees : {2.0f, 5.0f, 10.0f, 20.0f, 40.0f}) {
         const float s = std::sin(glm::radians(degrees)), c = std::cos(glm::radians(degrees));
         std::optional<SurfaceHit> nearest;
@@ -196,10 +191,8 @@ std::vector<Portal> detectPortals(const Scene& scene, const PortalDetectionSetti
             triangles.emplace_back(m, t);
         }
     }
-    std::vector<float> cdf(areas.size() + 1, 0.0f);
-    for (size_t i = 0; i < areas.size(); ++i)
-        cdf[i + 1] = cdf[i] + areas[i];
-    if (!(cdf.back() > 0.0f))
+    std::vector<float> cdf(areas.size() + 1);
+    if (!(fillCdf(areas, cdf) > 0.0))
         return {};
     const float radius = scene.bounds().boundingRadius();
     const float offset = 1e-3f * radius;
@@ -208,9 +201,7 @@ std::vector<Portal> detectPortals(const Scene& scene, const PortalDetectionSetti
     tbb::parallel_for(0, settings.origins, [&](int o) {
         std::mt19937 random(uint32_t(o) * 2654435761u + 17u);
         std::uniform_real_distribution<float> uniform(0.0f, 1.0f);
-        const float pick = uniform(random) * cdf.back();
-        const size_t i = size_t(std::upper_bound(cdf.begin(), cdf.end(), pick) - cdf.begin()) - 1;
-        const auto [mesh, triangle] = triangles[std::min(i, triangles.size() - 1)];
+        const auto [mesh, triangle] = triangles[invertCdf(cdf, uniform(random)).index];
         const Vec3 b = sampleUniformTriangle(Vec2(uniform(random), uniform(random)));
         const SurfaceHit hit = scene.surfaceAt(mesh, triangle, b);
         for (const float side : {1.0f, -1.0f}) {
