@@ -11,6 +11,7 @@
 #include "core/scene_contents.h"
 #include "core/stats.h"
 #include "passes/caustic_pass.h"
+#include "passes/solution_check.h"
 #include "passes/specular_transfer.h"
 #include "radiosity/bake.h"
 #include "radiosity/radiosity_mesh.h"
@@ -21,8 +22,10 @@
 #include <tbb/info.h>
 
 #include <chrono>
+#include <iomanip>
 #include <iostream>
 #include <optional>
+#include <sstream>
 
 namespace penumbra::cli {
 
@@ -36,8 +39,42 @@ struct BakeOptions {
     RadiositySettings radiosity;
     bool caustics = true;          // take the lights' caustic photons into the solution
     bool specularTransfer = true;  // carry the solution's light through specular surfaces
-    uint32_t seed = 0;             // of the photons
+    uint32_t seed = 0;             // of the photons and of the check
+    SolutionCheckSettings check;   // points 0: no check
 };
+
+// The bake's expected error: the solution against the path tracer at points of its surfaces.
+void reportExpectedError(const Scene& scene, const RadiosityMesh& mesh,
+                         const RadiositySolution& solution, SolutionCheckSettings settings) {
+    SolutionCheck check;
+    {
+        Progress progress("check", uint64_t(settings.points), false);
+        check = checkSolution(scene, mesh, solution, settings, &progress);
+    }
+    if (!(check.meanTraced > 0.0)) {
+        std::cerr << "penumbra: expected error: none measured (the path tracer found no light "
+                     "at the "
+                  << settings.points << " points checked)\n";
+        return;
+    }
+    const auto percent = [](double fraction) {
+        std::ostringstream out;
+        out << std::fixed << std::setprecision(1) << 100.0 * fraction << " %";
+        return out.str();
+    };
+    std::cerr << "penumbra: expected error, at " << check.points.size()
+              << " points drawn over the baked surfaces against the path tracer ("
+              << settings.samples << " samples each): mean " << (check.bias >= 0.0 ? "+" : "")
+              << percent(check.bias) << " +- " << percent(check.biasStandardError)
+              << " of the mean radiance (" << check.meanTraced << " cd/m²), RMS ";
+    if (check.rmsError >= check.noise) {
+        std::cerr << percent(check.rmsError) << " (the path tracer's own noise, "
+                  << percent(check.noise) << ", taken out)\n";
+    } else {
+        std::cerr << "under " << percent(check.noise)
+                  << " (the path tracer's own noise: more --check-samples resolve it)\n";
+    }
+}
 
 void bake(const BakeOptions& options) {
     // Refuse a bad output or setting before loading and solving.
@@ -108,6 +145,11 @@ void bake(const BakeOptions& options) {
         std::cerr << "penumbra: warning: the radiosity iteration stopped before converging "
                      "(max_iterations)\n";
     }
+    if (options.check.points > 0) {
+        SolutionCheckSettings check = options.check;
+        check.seed = options.seed;
+        reportExpectedError(*scene, mesh, solver, check);
+    }
 }
 
 }  // namespace
@@ -156,8 +198,21 @@ Command addBakeCommand(CLI::App& app) {
                    "Leave out the light the solution's surfaces send through mirrors and glass "
                    "onto other surfaces (photons shot from the solution, then solved again)")
         ->capture_default_str();
-    command->add_option("--seed", options->seed, "Seed of the caustic and transfer photons")
+    command
+        ->add_option("--seed", options->seed,
+                     "Seed of the caustic and transfer photons and of the expected error's check")
         ->capture_default_str();
+    command
+        ->add_option("--check-points", options->check.points,
+                     "Points drawn over the baked surfaces at which the solution is checked "
+                     "against the path tracer, to report the bake's expected error; 0 = no check")
+        ->capture_default_str()
+        ->check(atLeast(0));
+    command
+        ->add_option("--check-samples", options->check.samples,
+                     "Path-traced samples per checked point")
+        ->capture_default_str()
+        ->check(atLeast(2));
     return [options] { bake(*options); };
 }
 
