@@ -8,8 +8,10 @@
 // The path tracer's estimate is noisy, and the squared error reported has its variance taken out:
 // E[(b - t)^2] = (b - E[t])^2 + Var[t], t the traced mean, b the solution's value. Var[t] comes
 // from two independent halves of the samples (two scramblings of the sampler's sequence), as
-// (t_1 - t_2)^2 / 4: the samples' own variance would overstate it, as they are stratified (under
-// a uniform sky it was 1.6 times the true spread, and took the whole error out).
+// (t_1 - t_2)^2 / 4, the replicate estimate of randomised quasi-Monte Carlo's variance (Owen 1997,
+// "Scrambled net variance for integrals of smooth functions"; L'Ecuyer and Lemieux 2002): the
+// samples' own variance would overstate it, as they are stratified (under a uniform sky it was 1.6
+// times the true spread, and took the whole error out).
 #pragma once
 
 #include "core/math.h"

@@ -41,6 +41,14 @@ GltfBuilder floorSeenFromAbove() {
     return scene;
 }
 
+// The floor under lights A and B, written to `path`.
+void writeFloorUnderBothLights(const std::string& path) {
+    GltfBuilder scene = floorSeenFromAbove();
+    scene.addLight(kLightA);
+    scene.addLight(kLightB);
+    scene.write(path);
+}
+
 Vec3 pixelPoint(int x, int y) {
     const float step = 2.0f * kHalfSize / kSize;
     return Vec3(-kHalfSize + (float(x) + 0.5f) * step, 0.0f, -kHalfSize + (float(y) + 0.5f) * step);
@@ -79,10 +87,7 @@ void expectLayersSumToBeauty(const Image& image, const std::vector<std::string>&
 
 TEST(LightGroups, EachPointLightHasItsOwnLayer) {
     TempDir dir("light-groups-points");
-    GltfBuilder scene = floorSeenFromAbove();
-    scene.addLight(kLightA);
-    scene.addLight(kLightB);
-    scene.write(dir.file("scene.gltf"));
+    writeFloorUnderBothLights(dir.file("scene.gltf"));
     const std::string size =
         " --width " + std::to_string(kSize) + " --height " + std::to_string(kSize);
     CliResult run;
@@ -120,10 +125,7 @@ TEST(LightGroups, EachPointLightHasItsOwnLayer) {
 // group alone (the solution is linear in its sources).
 TEST(LightGroups, EveryPipelineSplitsItsLight) {
     TempDir dir("light-groups-pipelines");
-    GltfBuilder scene = floorSeenFromAbove();
-    scene.addLight(kLightA);
-    scene.addLight(kLightB);
-    scene.write(dir.file("scene.gltf"));
+    writeFloorUnderBothLights(dir.file("scene.gltf"));
     double meanA = 0.0, meanB = 0.0;
     for (int y = 0; y < 16; ++y) {
         for (int x = 0; x < 16; ++x) {
@@ -175,10 +177,7 @@ TEST(LightGroups, TheSunAndTheSkyAreSplit) {
 // illuminance_lux.
 TEST(LightGroups, IlluminanceHasAColumnPerGroup) {
     TempDir dir("light-groups-illuminance");
-    GltfBuilder scene = floorSeenFromAbove();
-    scene.addLight(kLightA);
-    scene.addLight(kLightB);
-    scene.write(dir.file("scene.gltf"));
+    writeFloorUnderBothLights(dir.file("scene.gltf"));
     std::ofstream(dir.file("points.csv")) << "0,0,0,0,1,0\n1.5,0,-1,0,1,0\n";
     const CliResult r = runPenumbra("illuminance " + dir.file("scene.gltf") + " --points " +
                                     dir.file("points.csv") + " -o " + dir.file("lux.csv") +
