@@ -71,14 +71,21 @@ void DirectIrradiance::setTransferred(const std::vector<FluxDeposit>& deposits) 
 // irradiance over the element, Phi / A, divided by pi, to D; it leaves the spread alone, so that
 // photon noise does not drive refineDirect().
 uint64_t DirectIrradiance::compute(const std::vector<int>& elements, SolveProgress* progress,
-                                   const std::function<bool(size_t done)>& stop, bool* stopped) {
+                                   const std::function<Pace(size_t done)>& pace, bool* stopped) {
     const std::vector<const Light*> lights = punctualLights(scene_);
     const bool sources = !lights.empty() || scene_.environment();
     if ((!sources && !deposits_) || elements.empty())
         return 0;
     if (deposits_)
         deposits_->update();
-    const int n = samples_;
+    // Read by the chunks' tasks, written only between chunks (parallelForWithProgress's stop).
+    int n = samples_;
+    const std::function<bool(size_t)> stop = [&](size_t done) {
+        const Pace p = pace ? pace(done) : Pace::Full;
+        if (p == Pace::Hurry)
+            n = 1;
+        return p == Pace::Stop;
+    };
     std::atomic<uint64_t> rays{0};
     const bool completed = parallelForWithProgress(
         elements.size(), progress,

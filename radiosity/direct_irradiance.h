@@ -38,12 +38,16 @@ class DirectIrradiance {
     void resize();
     // A new child's side starts from its parent's until compute() samples its own.
     void inherit(int childNode, int parentNode);
+    // How compute() goes on with the elements left: at full samples, with one point each (a
+    // solve short of time: D unbiased but noisier, its spread unknown and taken as 0, so that
+    // it splits nothing), or not at all.
+    enum class Pace { Full, Hurry, Stop };
     // D and its spread for both sides of `elements`. With `progress`, advances its current stage
-    // by one per element. Returns the shadow rays it cast. `stop`, when given, is asked between
-    // chunks of elements with the number done: once it says yes the rest is left as it was and
-    // `*stopped` (if given) is set.
+    // by one per element. Returns the shadow rays it cast. `pace`, when given, is asked between
+    // chunks of elements with the number done: once it says Hurry the rest take one point, once
+    // it says Stop the rest are left as they were and `*stopped` (if given) is set.
     uint64_t compute(const std::vector<int>& elements, SolveProgress* progress = nullptr,
-                     const std::function<bool(size_t done)>& stop = nullptr,
+                     const std::function<Pace(size_t done)>& pace = nullptr,
                      bool* stopped = nullptr);
 
     // What D() shows: everything (the default), the sources' part only, or nothing; the

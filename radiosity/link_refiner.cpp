@@ -25,6 +25,11 @@ constexpr float kRelativeFloor = 0.1f;
 // kernel samples on the modern hall's 2 cores).
 constexpr size_t kRefineSlice = size_t{1} << 16;
 
+// Once the time is up (coarse_), the radius, as a fraction of the root cluster's, under which
+// close nodes are linked with a softened kernel rather than split (LinkTransfer::clusterKernel),
+// and a cluster's pairs within itself are not linked at all.
+constexpr float kCoarseRadius = 1.0f / 8.0f;
+
 }  // namespace
 
 LinkRefiner::LinkRefiner(RadiosityMesh& mesh, const RadiositySettings& settings,
@@ -41,7 +46,9 @@ LinkRefiner::LinkRefiner(RadiosityMesh& mesh, const RadiositySettings& settings,
       links_(links),
       radiance_(radiance),
       split_(std::move(split)),
-      settle_(std::move(settle)) {}
+      settle_(std::move(settle)),
+      coarseRadius_(clusters && !clusters->empty() ? (*clusters)[0].radius * kCoarseRadius : 0.0f) {
+}
 
 // The oracle's thresholds from the current solution. threshold_, the absolute one: epsilon times
 // the scene's mean radiance, sum_i A_i max(L_i) / sum_i A_i over the patches (both sides counted
@@ -164,10 +171,12 @@ void LinkRefiner::refine(std::vector<RefinePair> batch, std::vector<PendingLink>
         std::vector<RefinePair> next;
         // In slices, so that a time limit is seen within a level too (setTimeLimit).
         for (size_t begin = 0; begin < batch.size(); begin += kRefineSlice) {
-            if (linking_ && onTimeUp_ == OnTimeUp::Abandon && (timeIsUp() || oracleTooLong())) {
+            const bool late = timeIsUp() || (linking_ && oracleTooLong());
+            if (late && linking_ && onTimeUp_ == OnTimeUp::Abandon) {
                 abandoned_ = true;
                 return;
             }
+            coarse_ = coarse_ || late;
             const size_t end = std::min(batch.size(), begin + kRefineSlice);
             refineSlice(std::span(batch).subspan(begin, end - begin), next, pending);
         }
@@ -189,7 +198,7 @@ void LinkRefiner::refineSlice(std::span<const RefinePair> batch, std::vector<Ref
         if (isCluster(p.receiver) || isCluster(p.source)) {
             if (p.receiver != p.source && transfer_.mayInteractWithCluster(p.receiver, p.source)) {
                 interacts[i] = 1;
-                clusterKernels[i] = transfer_.clusterKernel(p.receiver, p.source);
+                clusterKernels[i] = transfer_.clusterKernel(p.receiver, p.source, softRadius());
             }
             return;
         }
@@ -233,12 +242,15 @@ void LinkRefiner::setTimeLimit(Deadline deadline, OnTimeUp onTimeUp) {
 // The links the oracle decides must all be evaluated after it, which costs more than deciding
 // them: an oracle that has used half of the time its linking had left will not see its links
 // made in time (the grey-white room lit by its sky: 39 s of oracle, then abandoned at the
-// deadline, leaving the path tracer 13 s of 64).
+// deadline, leaving the path tracer 13 s of 64). A solve that coarsens instead cannot stop the
+// evaluation, so its oracle stops at a quarter: there, with the links as they stood at its
+// deadline, the evaluation took 2.5 times as long as the oracle.
 bool LinkRefiner::oracleTooLong() const {
     if (!deadline_)
         return false;
     const auto now = std::chrono::steady_clock::now();
-    return now - linkingStart_ > (*deadline_ - linkingStart_) / 2;
+    const int share = onTimeUp_ == OnTimeUp::Abandon ? 2 : 4;
+    return now - linkingStart_ > (*deadline_ - linkingStart_) / share;
 }
 
 bool LinkRefiner::timeIsUp() {
@@ -320,12 +332,13 @@ void LinkRefiner::evaluateLinks(const std::vector<PendingLink>& pending, const s
             const PendingLink& p = pending[i];
             const int j = reverse[i];
             if (isClusterLink(i)) {
-                const ClusterKernel k = transfer_.clusterKernel(p.receiver, p.source);
+                const ClusterKernel k = transfer_.clusterKernel(p.receiver, p.source, softRadius());
                 F[i] = k.K;
                 Fmax[i] = k.Kmax;
                 spread[i] = k.error;
                 if (j >= 0) {
-                    const ClusterKernel kr = transfer_.clusterKernel(p.source, p.receiver);
+                    const ClusterKernel kr =
+                        transfer_.clusterKernel(p.source, p.receiver, softRadius());
                     Fmax[static_cast<size_t>(j)] = kr.Kmax;
                     spread[static_cast<size_t>(j)] = kr.error;
                 }
@@ -484,6 +497,10 @@ void LinkRefiner::refineClusterPair(int receiver, int source, const ClusterKerne
                                     std::vector<RefinePair>& next,
                                     std::vector<PendingLink>& pending) {
     if (receiver == source) {
+        // Once coarse, the light a small cluster exchanges within itself is left out: linking
+        // its parts pair by pair is what the time could not afford.
+        if (coarse_ && transfer_.nodeRadius(receiver) < coarseRadius_)
+            return;
         const std::vector<int> c = nodeChildren(receiver);
         for (const int r : c) {
             for (const int s : c)
@@ -555,7 +572,7 @@ bool LinkRefiner::refineDirect() {
             queue.push_back(static_cast<int>(e));
     }
     bool split = false;
-    while (!queue.empty()) {
+    while (!queue.empty() && !timeIsUp()) {
         for (const int e : queue) {
             const float spread =
                 glm::max(irradiance_.spread(node(e, true)), irradiance_.spread(node(e, false)));

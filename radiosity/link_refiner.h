@@ -58,12 +58,14 @@ class LinkRefiner {
 
     // When the caller's time for the solve is up (a time limit), if it has one.
     using Deadline = std::optional<std::chrono::steady_clock::time_point>;
-    // What the refinement does once the deadline has passed: Coarsen links every pair it still
-    // examines as it stands wherever a link may be made (the oracle allows any error from then
-    // on), a coarser solution at the price of the links it has decided; Abandon, during the
-    // initial linking, stops and makes no more links (abandoned()), for a caller that can do
-    // without the solution, as soon as the rate of the links' evaluation says they will not all
-    // be made by the deadline.
+    // What the refinement does once the deadline has passed, or the initial linking's oracle has
+    // used its share of the time it had left (oracleTooLong): Coarsen links every pair it still
+    // examines as it stands (the oracle allows any error from then on; close nodes under a radius
+    // are linked with a softened kernel and a small cluster's pairs within itself are left out), a
+    // coarser solution at the price of the links it has decided; Abandon, during the initial
+    // linking, stops and makes no more links (abandoned()), for a caller that can do without the
+    // solution, also as soon as the rate of the links' evaluation says they will not all be made by
+    // the deadline.
     enum class OnTimeUp { Coarsen, Abandon };
     void setTimeLimit(Deadline deadline, OnTimeUp onTimeUp);
     bool abandoned() const { return abandoned_; }
@@ -111,10 +113,13 @@ class LinkRefiner {
     bool exceedsThreshold(int receiver, int source, const LinkErrors& errors) const;
     // Whether the deadline has passed (setTimeLimit); sets coarse_ when it has.
     bool timeIsUp();
-    // Whether the initial linking's oracle has used half of the time its linking had left
-    // (OnTimeUp::Abandon only: then the solve is abandoned).
+    // Whether the initial linking's oracle has used its share of the time its linking had left
+    // (half if the solve may be abandoned, else a quarter): the solve is then abandoned or
+    // coarsened (OnTimeUp).
     bool oracleTooLong() const;
     bool smallTransfer(int source, float Fmax) const;
+    // The softening radius of cluster kernels: coarseRadius_ once coarse_, else none.
+    float softRadius() const { return coarse_ ? coarseRadius_ : 0.0f; }
     void updateThresholds(bool relativeFloor, float epsilonScale = 1.0f);
 
     RadiosityMesh& mesh_;
@@ -137,7 +142,10 @@ class LinkRefiner {
     OnTimeUp onTimeUp_ = OnTimeUp::Coarsen;
     bool linking_ = false;  // in linkPatches(), where the refinement may be abandoned
     std::chrono::steady_clock::time_point linkingStart_;  // when linkPatches() began
-    bool coarse_ = false;       // the time was up: the oracle refines nothing more
+    // The time was up (or, in the initial linking, its oracle had used half of what was left):
+    // the oracle refines nothing more and links pairs as they stand.
+    bool coarse_ = false;
+    float coarseRadius_;        // metres; see kCoarseRadius
     bool abandoned_ = false;    // the initial linking stopped with the time (OnTimeUp::Abandon)
     std::vector<int> created_;  // elements split off since the last finishSplits()
     size_t refinedLinks_ = 0;

@@ -3,6 +3,8 @@
 // the links with a cluster at an end.
 #include "radiosity/link_transfer.h"
 
+#include "core/closest_point.h"
+
 #include "core/sampler.h"
 #include "core/sampling.h"
 #include "core/scene.h"
@@ -12,6 +14,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <limits>
 #include <optional>
 
 namespace penumbra {
@@ -506,13 +509,13 @@ bool LinkTransfer::mayInteractWithCluster(int receiver, int source) const {
 //     cluster R <- element j:  K = A_j cos(theta_j) / (4 pi r^2)
 //     cluster R <- cluster S:  K = A_S / (16 pi r^2)
 // so that A_R K_RS = A_S K_SR for every pair (reciprocity, hence energy balance). A pair may be
-// linked only when the bounding spheres are disjoint and, where one end is an element, the other
-// lies wholly in front of its plane (so the cosine never changes sign over it).
+// linked only when the two cannot touch: the nearest they can come, g, is d - r_R - r_S for two
+// bounding spheres, and at an element end that cannot be split the distance of its triangle
+// from the other's sphere (the larger of the two bounds), and must be positive.
 //
 // The error the oracle weighs (as a radiance per unit source radiance) has three parts:
-//  - Sillion's, the variation of the kernel over the two bounding spheres, from 1/r^2 between
-//    the centres' distance d and the nearest the two can come, d - r_R - r_S:
-//    K ((d / (d - r_R - r_S))^2 - 1);
+//  - Sillion's, the variation of the kernel over the two ends, from 1/r^2 between the centres'
+//    distance d and the nearest the two can come: K ((d / g)^2 - 1);
 //  - the isotropic model's own error, of the order of the transfer K itself;
 //  - for flat clusters (Cluster::flatness up to 1, coplanar patches facing one way), which
 //    radiate and receive from 0 to 4 times the isotropic mean: 3 K flatness.
@@ -521,16 +524,33 @@ bool LinkTransfer::mayInteractWithCluster(int receiver, int source) const {
 // links instead of 2.9 M in the modern hall (docs/radiosity.md, "Clusters"). `Kmax` is the kernel's
 // largest value (a side facing the source gets 4 times a receiving cluster's mean), for the
 // visibility's shortcut.
-ClusterKernel LinkTransfer::clusterKernel(int receiver, int source) const {
+ClusterKernel LinkTransfer::clusterKernel(int receiver, int source, float softRadius) const {
     ClusterKernel k;
     const Vec3 cr = nodeCenter(receiver), cs = nodeCenter(source);
     const float rr = nodeRadius(receiver), rs = nodeRadius(source);
     const float d = glm::distance(cr, cs);
     float gap = d - rr - rs;
+    // At an element end that cannot be split, the nearest its triangle comes to the other's
+    // sphere: its bounding sphere is far too loose for a sliver (the grey-white room's skirting
+    // strips, 3.4 m long and 0.5 mm wide, overlapped every cluster within 1.7 m of their middle;
+    // as the strip could not be split, every such cluster was refined down to its patches against
+    // it). An element that can be split is, where its sphere is too loose, and the kernel at the
+    // centres stays an estimate of the whole element's.
+    const auto nearest = [&](int elementNode, const Vec3& centre, float radius) {
+        const int e = element(elementNode);
+        if (!mesh_.isLeaf(e) || mesh_.canSplit(e))
+            return -std::numeric_limits<float>::infinity();
+        const std::array<Vec3, 3> t = mesh_.corners(e);
+        return glm::distance(centre, closestPointOnTriangle(centre, t[0], t[1], t[2])) - radius;
+    };
+    if (!isCluster(receiver))
+        gap = glm::max(gap, nearest(receiver, cs, rs));
+    if (!isCluster(source))
+        gap = glm::max(gap, nearest(source, cr, rr));
     // Two small nodes are not split for being close (dense foliage would link every pair of its
     // leaves): their kernel takes the softened distance sqrt(d^2 + (r_R + r_S)^2), bounded as
     // the disc approximation of Wallace, Elmquist and Haines 1989 is, and its error is ignored.
-    const bool small = glm::max(rr, rs) < clusterMinRadius_;
+    const bool small = glm::max(rr, rs) < glm::max(clusterMinRadius_, softRadius);
     if (!(gap > 0.0f) && !small)
         return k;
     const float dSoft = small && !(gap > 0.0f) ? std::sqrt(d * d + (rr + rs) * (rr + rs)) : d;

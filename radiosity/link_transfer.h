@@ -102,7 +102,9 @@ class LinkTransfer {
                      ChildVisibility* children = nullptr) const;
     // The form factor F over the exposed part of a partly covered receiver.
     float exposedFormFactor(int receiver, int source, float F) const;
-    ClusterKernel clusterKernel(int receiver, int source) const;
+    // `softRadius` (metres) widens the radius under which a close pair is linked with a
+    // softened distance rather than left unlinkable (a hurried solve: LinkRefiner's coarse mode).
+    ClusterKernel clusterKernel(int receiver, int source, float softRadius = 0.0f) const;
 
   private:
     const Scene& scene_;

@@ -21,6 +21,7 @@
 #include <algorithm>
 #include <chrono>
 #include <numeric>
+#include <optional>
 #include <sstream>
 
 namespace penumbra {
@@ -308,20 +309,29 @@ void RadiositySolver::solve(SolveProgress* progress, LinkRefiner::Deadline deadl
     const bool punctual = !punctualLights(scene_).empty() || scene_.environment();
     if (punctual)
         beginStage("direct light of the punctual lights", leaves.size());
-    // A solve that may be abandoned is, as soon as this stage alone is projected to take half of
-    // the time left: the links take longer still (the grey-white room lit by its sky: 7 s of
-    // direct light, then the linking abandoned; the path tracer lost 9 s of its 16).
+    // As soon as this stage alone is projected to take half of the time left (the links take
+    // longer still), a solve that may be abandoned is (the grey-white room lit by its sky: 7 s
+    // of direct light, then the linking abandoned; the path tracer lost 9 s of its 16), and one
+    // that may not samples the rest of the leaves with one point each (there: 21 s of direct
+    // light for a solve given 8 s).
     const double secondsLeft =
         deadline ? std::chrono::duration<double>(*deadline - start).count() : 0.0;
     const auto directStart = std::chrono::steady_clock::now();
-    const std::function<bool(size_t)> tooSlow = [&](size_t done) {
-        return projectedToOverrun(secondsSince(directStart), done, leaves.size(),
-                                  0.5 * secondsLeft - secondsSince(start));
+    const bool mayAbandon = onTimeUp == LinkRefiner::OnTimeUp::Abandon;
+    using Pace = DirectIrradiance::Pace;
+    std::optional<size_t> hurriedFrom;  // the leaves done when it began to hurry
+    const std::function<Pace(size_t)> pace = [&](size_t done) {
+        if (hurriedFrom || !projectedToOverrun(secondsSince(directStart), done, leaves.size(),
+                                               0.5 * secondsLeft - secondsSince(start)))
+            return hurriedFrom ? Pace::Hurry : Pace::Full;
+        if (mayAbandon)
+            return Pace::Stop;
+        hurriedFrom = done;
+        return Pace::Hurry;
     };
-    const bool mayAbandon = deadline && onTimeUp == LinkRefiner::OnTimeUp::Abandon;
     bool stopped = false;
     rays_ += irradiance_->compute(leaves, progress_,
-                                  mayAbandon ? tooSlow : std::function<bool(size_t)>{}, &stopped);
+                                  deadline ? pace : std::function<Pace(size_t)>{}, &stopped);
     if (stopped) {
         abandoned_ = true;
         endStage("abandoned: its time is up");
@@ -334,7 +344,10 @@ void RadiositySolver::solve(SolveProgress* progress, LinkRefiner::Deadline deadl
     refiner_->refineDirect();
     radiance_->pushPullAll();
     if (punctual)
-        endStage(std::to_string(mesh_.leafCount()) + " leaves");
+        endStage(std::to_string(mesh_.leafCount()) + " leaves" +
+                 (hurriedFrom ? ", one point each from leaf " + std::to_string(*hurriedFrom) +
+                                    " on (time limit)"
+                              : ""));
     secondsDirect_ = secondsSince(start);
     peakDirect_ = peakMemoryMiB();
 

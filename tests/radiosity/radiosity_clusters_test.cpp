@@ -1,16 +1,22 @@
 // The radiosity solver's clusters: the cluster tree partitions the patches into nested clusters
 // that bound them, with their area, flatness and sampling by area; and with clusters forced on,
-// the refinement rounds end before their limit.
+// the refinement rounds end before their limit, and a sliver does not drag the clusters around
+// it down to their patches.
 #include "radiosity/cluster_tree.h"
+#include "radiosity/element_exposure.h"
+#include "radiosity/link_transfer.h"
 #include "radiosity/radiosity_mesh.h"
 #include "radiosity/radiosity_solver.h"
+#include "radiosity/solver_nodes.h"
 #include "tests/support/gltf_builder.h"
 #include "tests/support/radiosity_scenes.h"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <iostream>
+#include <memory>
 #include <set>
 #include <string>
 #include <vector>
@@ -113,6 +119,67 @@ TEST(ClusteredRoom, RefinementRoundsEnd) {
     std::cout << rounds << " refinement rounds of at most " << settings.maxRefinements << ", "
               << solver.linkCount() << " links\n";
     EXPECT_LT(rounds, settings.maxRefinements);
+}
+
+TEST(ClusterKernel, ASliverLinksToTheClustersBesideIt) {
+    // A sliver's bounding sphere holds everything within half its length of its middle, and it
+    // cannot be split: judged by that sphere, every cluster near it overlapped it and was refined
+    // down to its patches against it (the grey-white room's 3.4 m skirting strips: 74 M pairs to
+    // evaluate instead of 11 M). Here a strip 1.9 m long and 1 mm high, and 100 tiles of 2 x 2
+    // cm, 10 to 57 cm from it, all inside its halves' spheres: judged by the distance of its
+    // triangles, every leaf cluster of tiles may be linked with it, in both directions.
+    GltfBuilder builder;
+    const int grey = builder.addMaterial({.baseColor = Color(0.5f)});
+    for (int i = 0; i < 10; ++i) {
+        for (int j = 0; j < 10; ++j) {
+            const float x = -0.25f + 0.05f * static_cast<float>(i),
+                        z = 0.1f + 0.05f * static_cast<float>(j);
+            builder.addQuad({x, 0.0f, z}, {x, 0.0f, z + 0.02f}, {x + 0.02f, 0.0f, z + 0.02f},
+                            {x + 0.02f, 0.0f, z}, grey);
+        }
+    }
+    builder.addQuad({-0.95f, 0.0f, 0.0f}, {0.95f, 0.0f, 0.0f}, {0.95f, 0.001f, 0.0f},
+                    {-0.95f, 0.001f, 0.0f}, grey);
+    const auto scene = loadBuiltScene(builder, "cluster-kernel-sliver");
+    RadiositySettings settings;
+    settings.patchEdgeLength = 4.0f;   // no triangle is cut into patches
+    settings.minElementArea = 0.001f;  // the strip's halves (9.5e-4 m²) cannot be split
+    const RadiosityMesh mesh(*scene, settings.meshing(*scene));
+    const ElementExposure exposure(*scene, mesh);
+    const ClusterTree tree(mesh);
+    const LinkTransfer transfer(*scene, mesh, exposure, &tree, settings);
+    std::vector<int> strip;
+    for (size_t p = 0; p < mesh.patchCount(); ++p) {
+        if (mesh.area(static_cast<int>(p)) > 5e-4)
+            strip.push_back(static_cast<int>(p));
+    }
+    ASSERT_EQ(strip.size(), 2u);
+    int leaves = 0;
+    for (size_t c = 0; c < tree.size(); ++c) {
+        const Cluster& cluster = tree[static_cast<int>(c)];
+        const auto patches = tree.patches(static_cast<int>(c));
+        const bool tilesOnly = std::none_of(patches.begin(), patches.end(), [&](int p) {
+            return std::find(strip.begin(), strip.end(), p) != strip.end();
+        });
+        if (!cluster.isLeaf() || !tilesOnly)
+            continue;
+        ++leaves;
+        for (const int p : strip) {
+            ASSERT_FALSE(mesh.canSplit(p));
+            // The bounding spheres overlap.
+            ASSERT_LT(glm::distance(cluster.center, transfer.nodeCenter(node(p, true))),
+                      cluster.radius + transfer.nodeRadius(node(p, true)));
+            for (const bool side : {true, false}) {
+                EXPECT_TRUE(transfer.clusterKernel(clusterNode(static_cast<int>(c)), node(p, side))
+                                .linkable)
+                    << "cluster " << c << " from the strip's patch " << p;
+                EXPECT_TRUE(transfer.clusterKernel(node(p, side), clusterNode(static_cast<int>(c)))
+                                .linkable)
+                    << "the strip's patch " << p << " from cluster " << c;
+            }
+        }
+    }
+    EXPECT_GE(leaves, 200 / ClusterTree::kLeafPatches);
 }
 
 }  // namespace

@@ -2,7 +2,8 @@
 // time is up before it starts still ends with a whole solution, coarser, that keeps the closed
 // furnace's answer; told to abandon, it stops without links; and the hybrid pipeline whose solve
 // is abandoned renders the path tracer's very image, every path traced on; the rate of a solve's
-// links says early whether they will be made by the deadline.
+// links says early whether they will be made by the deadline; a solve that may not be abandoned
+// hurries its direct light instead.
 #include "core/image_io.h"
 #include "radiosity/radiosity_mesh.h"
 #include "radiosity/radiosity_solver.h"
@@ -129,10 +130,9 @@ TEST(SolveDeadline, HybridWithoutTimeForTheSolveRendersThePathTracersImage) {
     EXPECT_GT(luminanceMean(traced), 0.0);
 }
 
-TEST(SolveDeadline, TheHybridGivesUpASolveWhoseDirectLightAloneTakesHalfItsShare) {
-    // A floor of 180 000 triangles under a sky: the sky's direct light on every patch (its first
-    // stage) takes seconds, and a second's time limit cannot pay for it; the solve is abandoned
-    // within that stage, once a twentieth of it says so, not after it.
+// A floor of 180 000 triangles, 10 x 10 m, written to `dir` as floor.gltf: under a sky, its
+// direct light on every patch (the solve's first stage) takes seconds.
+std::string writeManyTriangleFloor(const TempDir& dir) {
     GltfBuilder scene;
     const int grey = scene.addMaterial({.baseColor = Color(0.5f)});
     constexpr int kCells = 300;
@@ -150,15 +150,36 @@ TEST(SolveDeadline, TheHybridGivesUpASolveWhoseDirectLightAloneTakesHalfItsShare
         }
     }
     scene.addMesh(positions, indices, grey);
-    TempDir dir("solve-deadline-direct");
     scene.write(dir.file("floor.gltf"));
+    return dir.file("floor.gltf");
+}
+
+TEST(SolveDeadline, TheHybridGivesUpASolveWhoseDirectLightAloneTakesHalfItsShare) {
+    // A second's time limit cannot pay for the floor's direct light: the solve is abandoned
+    // within that stage, once a twentieth of it says so, not after it.
+    TempDir dir("solve-deadline-direct");
     CliResult run;
-    renderImage(dir.file("floor.gltf"), dir.file("floor.exr"),
+    renderImage(writeManyTriangleFloor(dir), dir.file("floor.exr"),
                 "--pipeline hybrid --sky uniform --time-limit 1 --width 8 --height 8 --threads 2",
                 &run);
     EXPECT_NE(run.output.find("direct light of the punctual lights: abandoned"), std::string::npos)
         << run.output;
     EXPECT_NE(run.output.find("abandoned_by_time_limit: yes"), std::string::npos) << run.output;
+}
+
+TEST(SolveDeadline, TheDistributionPreviewHurriesTheDirectLightItHasNoTimeFor) {
+    // The distribution preview cannot do without its solution: once the floor's direct light is
+    // projected to take half of the solve's share, the rest of the leaves take one point each
+    // (on the grey-white room, 21 s of direct light became 1.7 s), and the solve goes on.
+    TempDir dir("solve-deadline-hurry");
+    CliResult run;
+    const Image image = renderImage(
+        writeManyTriangleFloor(dir), dir.file("floor.exr"),
+        "--pipeline distribution --sky uniform --time-limit 1 --width 8 --height 8 --threads 2",
+        &run);
+    EXPECT_NE(run.output.find("leaves, one point each from leaf"), std::string::npos) << run.output;
+    EXPECT_NE(run.output.find("abandoned_by_time_limit: no"), std::string::npos) << run.output;
+    EXPECT_GT(luminanceMean(image), 0.0);
 }
 
 TEST(SolveDeadline, DistributionWithoutTimeForTheSolveStillSeesTheIndirectLight) {
