@@ -4,7 +4,6 @@
 #include "radiosity/link_transfer.h"
 
 #include "core/closest_point.h"
-
 #include "core/sampler.h"
 #include "core/sampling.h"
 #include "core/scene.h"
