@@ -534,7 +534,8 @@ ClusterKernel LinkTransfer::clusterKernel(int receiver, int source, float softRa
     // strips, 3.4 m long and 0.5 mm wide, overlapped every cluster within 1.7 m of their middle;
     // as the strip could not be split, every such cluster was refined down to its patches against
     // it). An element that can be split is, where its sphere is too loose, and the kernel at the
-    // centres stays an estimate of the whole element's.
+    // centres stays an estimate of the whole element's; one that cannot has under four times the
+    // smallest element's area, so the transfer that estimate may miss is small.
     const auto nearest = [&](int elementNode, const Vec3& centre, float radius) {
         const int e = element(elementNode);
         if (!mesh_.isLeaf(e) || mesh_.canSplit(e))
