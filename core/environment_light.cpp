@@ -57,7 +57,7 @@ float sampleContinuous(std::span<const float> cdf, float u, int& index) {
 
 EnvironmentLight::EnvironmentLight(const Image& radiance, const Mat3& worldToLocal, float scale,
                                    const Vec3& sceneCenter, float sceneRadius, std::string name,
-                                   const std::optional<SunDisc>& sun, PortalSet portals)
+                                   const std::optional<SunDisc>& sun, std::vector<Portal> portals)
     : width_(radiance.width()),
       height_(radiance.height()),
       worldToLocal_(worldToLocal),
@@ -139,9 +139,16 @@ EnvironmentLight::EnvironmentLight(const Image& radiance, const Mat3& worldToLoc
         const float map = luminance(integral_);
         sunProbability_ = sun->directNormalIlluminance / (sun->directNormalIlluminance + map);
     }
-    portals_ = std::move(portals);
-    if (!portals_.empty())
-        portalProbability_ = kPortalShare * (1.0f - sunProbability_);
+    if (!portals.empty()) {
+        // Points of the portals' images closer than a bright pixel is wide (its bilinear
+        // radiance spans two pixels, 2 pi / height), so that none is missed between them: a
+        // cell spans at most 2 / kResolution radians (at the image's centre).
+        const int supersampling = std::clamp(
+            int(std::ceil(float(height_) / (kPi * float(PortalSet::kResolution)))), 1, 8);
+        portals_ = PortalSet(
+            std::move(portals), [this](const Vec3& d) { return luminance(mapRadiance(d)); },
+            PortalSet::kResolution, supersampling);
+    }
 }
 
 bool EnvironmentLight::inSun(const Vec3& towards) const {
@@ -149,6 +156,11 @@ bool EnvironmentLight::inSun(const Vec3& towards) const {
 }
 
 Color EnvironmentLight::radiance(const Vec3& towards) const {
+    const Color map = mapRadiance(towards);
+    return inSun(towards) ? map + Color(sun_->radiance()) : map;
+}
+
+Color EnvironmentLight::mapRadiance(const Vec3& towards) const {
     const Vec2 uv = directionToUv(worldToLocal_ * towards);
     // Bilinear between pixel centres, pixel (x, y) centred at ((x + 0.5) / W, (y + 0.5) / H).
     const float x = uv.x * float(width_) - 0.5f, y = uv.y * float(height_) - 0.5f;
@@ -160,9 +172,8 @@ Color EnvironmentLight::radiance(const Vec3& towards) const {
         return pixels_[size_t(row) * width_ + column];
     };
     const int ix = int(x0), iy = int(y0);
-    const Color map = (1.0f - fy) * ((1.0f - fx) * pixel(ix, iy) + fx * pixel(ix + 1, iy)) +
-                      fy * ((1.0f - fx) * pixel(ix, iy + 1) + fx * pixel(ix + 1, iy + 1));
-    return inSun(towards) ? map + Color(sun_->radiance()) : map;
+    return (1.0f - fy) * ((1.0f - fx) * pixel(ix, iy) + fx * pixel(ix + 1, iy)) +
+           fy * ((1.0f - fx) * pixel(ix, iy + 1) + fx * pixel(ix + 1, iy + 1));
 }
 
 // pbrt-v3's InfiniteAreaLight::Pdf_Li (section 14.2.4): the density p(u, v) of the image
@@ -178,18 +189,24 @@ double EnvironmentLight::horizontalIlluminance() const {
             const double phi = (j + 0.5) * dPhi;
             const Vec3 up(float(std::sin(theta) * std::cos(phi)), float(std::cos(theta)),
                           float(std::sin(theta) * std::sin(phi)));
-            const Color L = radiance(up) - (inSun(up) ? Color(sun_->radiance()) : Color(0.0f));
-            sum += double(luminance(L)) * weight;
+            sum += double(luminance(mapRadiance(up))) * weight;
         }
     }
     return sum;
 }
 
 float EnvironmentLight::pdfDirection(const Vec3& from, const Vec3& towards) const {
+    return pdfDirection(from, towards, portals_.empty() ? 0.0 : portals_.luminanceShown(from));
+}
+
+float EnvironmentLight::pdfDirection(const Vec3& from, const Vec3& towards, double shown) const {
     const float sun = inSun(towards) ? sunProbability_ / sun_->solidAngle() : 0.0f;
-    const float portals = portalProbability_ > 0.0f ? portals_.pdf(from, towards) : 0.0f;
-    return (1.0f - sunProbability_ - portalProbability_) * mapPdf(towards) + sun +
-           portalProbability_ * portals;
+    const float rest = 1.0f - sunProbability_;
+    if (!(shown > 0.0))
+        return rest * mapPdf(towards) + sun;
+    return rest * ((1.0f - kPortalShare) * mapPdf(towards) +
+                   kPortalShare * portals_.pdf(from, towards, shown)) +
+           sun;
 }
 
 float EnvironmentLight::mapPdf(const Vec3& towards) const {
@@ -206,26 +223,31 @@ float EnvironmentLight::mapPdf(const Vec3& towards) const {
 
 std::optional<LightLiSample> EnvironmentLight::sampleLi(const LightSampleContext& ctx,
                                                         Vec2 u) const {
-    // The sun, the portals and the map with their probabilities, u.x rescaled to [0, 1) for the
-    // part chosen.
+    // The sun, the portals (where they show the point some light) and the map with their
+    // probabilities, u.x rescaled to [0, 1) for the part chosen.
     Vec3 wi;
-    const float mapProbability = 1.0f - sunProbability_ - portalProbability_;
+    const double shown = portals_.empty() ? 0.0 : portals_.luminanceShown(ctx.p);
     if (u.x < sunProbability_) {
         wi = sun_->sample(Vec2(u.x / sunProbability_, u.y));
-    } else if (u.x < sunProbability_ + portalProbability_) {
-        const std::optional<Vec3> through =
-            portals_.sample(ctx.p, Vec2((u.x - sunProbability_) / portalProbability_, u.y));
-        if (!through)
-            return std::nullopt;
-        wi = *through;
     } else {
-        const float uMap = (u.x - sunProbability_ - portalProbability_) / mapProbability;
-        wi = sampleMap(Vec2(std::min(uMap, 1.0f), u.y));
+        const float uRest = std::min((u.x - sunProbability_) / (1.0f - sunProbability_), 1.0f);
+        if (!(shown > 0.0)) {
+            wi = sampleMap(Vec2(uRest, u.y));
+        } else if (uRest < kPortalShare) {
+            const std::optional<Vec3> through =
+                portals_.sample(ctx.p, Vec2(uRest / kPortalShare, u.y), shown);
+            if (!through)
+                return std::nullopt;
+            wi = *through;
+        } else {
+            const float uMap = (uRest - kPortalShare) / (1.0f - kPortalShare);
+            wi = sampleMap(Vec2(std::min(uMap, 1.0f), u.y));
+        }
     }
 
     // The density is looked up again from wi, so that it is exactly what MIS gets from
     // pdfDirection() for the same direction.
-    const float pdf = pdfDirection(ctx.p, wi);
+    const float pdf = pdfDirection(ctx.p, wi, shown);
     const Color L = radiance(wi);
     if (!(pdf > 0.0f) || maxComponent(L) <= 0.0f)
         return std::nullopt;

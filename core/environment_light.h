@@ -44,12 +44,13 @@ class EnvironmentLight : public Light {
     // a uniform direction in its cone (a one-sample mixture of the two densities, which
     // pdfDirection() returns, so MIS weighs both parts).
     //
-    // `portals`, when not empty, take kPortalShare of the samples the sun leaves (core/portals.h):
-    // the density then depends on the receiving point, which pdfDirection() takes.
+    // `portals`, when not empty, take kPortalShare of the samples the sun leaves at the points
+    // they show some of the map (core/portals.h, built from the map without the sun): the
+    // density then depends on the receiving point, which pdfDirection() takes.
     EnvironmentLight(const Image& radiance, const Mat3& worldToLocal, float scale,
                      const Vec3& sceneCenter, float sceneRadius, std::string name,
                      const std::optional<SunDisc>& sun = std::nullopt,
-                     PortalSet portals = PortalSet());
+                     std::vector<Portal> portals = {});
 
     // The share of the non-sun samples that go through the portals, when there are any; the rest
     // follow the map, so that points the portals do not serve (outside, or by an opening without
@@ -112,11 +113,13 @@ class EnvironmentLight : public Light {
     std::optional<SunDisc> sun_;
     float sunProbability_ = 0.0f;
     PortalSet portals_;
-    float portalProbability_ = 0.0f;
 
-    // The map's own density and sample, before the mixture with the sun.
+    // The map's own radiance, density and sample, before the mixture with the sun.
+    Color mapRadiance(const Vec3& towards) const;
     float mapPdf(const Vec3& towards) const;
     Vec3 sampleMap(Vec2 u) const;
+    // pdfDirection() with the portals' luminanceShown(from) already known.
+    float pdfDirection(const Vec3& from, const Vec3& towards, double shown) const;
     bool inSun(const Vec3& towards) const;
 };
 

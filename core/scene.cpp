@@ -65,11 +65,10 @@ Scene::Scene(SceneDescription description) : desc_(std::move(description)) {
     }
     if (desc_.environment) {
         const EnvironmentDesc& env = *desc_.environment;
-        auto light =
-            std::make_unique<EnvironmentLight>(env.radiance, env.worldToLocal, env.scale,
-                                               bounds_.empty() ? Vec3(0.0f) : bounds_.center(),
-                                               bounds_.empty() ? 1.0f : bounds_.boundingRadius(),
-                                               env.file, env.sun, PortalSet(env.portals));
+        auto light = std::make_unique<EnvironmentLight>(
+            env.radiance, env.worldToLocal, env.scale,
+            bounds_.empty() ? Vec3(0.0f) : bounds_.center(),
+            bounds_.empty() ? 1.0f : bounds_.boundingRadius(), env.file, env.sun, env.portals);
         environment_ = light.get();
         environmentIndex_ = static_cast<int>(lights_.size());
         lights_.push_back(std::move(light));
