@@ -3,31 +3,29 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <utility>
 
 namespace penumbra {
 
 namespace {
 
-// The first index in [first, last] whose `above(index)` holds, for a predicate false then true
-// along the range; `last` when it never holds before.
-template <typename Predicate>
-int firstWhere(int first, int last, Predicate above) {
+// Where a non-decreasing function, linear between the grid lines k / cells and known there as
+// at(k), reaches `target`, within [lower, upper] whose grid cells are first to last: the cell by
+// bisection over its grid lines, then the point linear within it. Returns the cell and the point.
+template <typename AtGridLine>
+std::pair<int, float> invertOnGrid(int first, int last, int cells, float lower, float upper,
+                                   AtGridLine at, double target) {
     while (first < last) {
         const int middle = first + (last - first) / 2;
-        if (above(middle))
+        if (at(middle + 1) > target)
             last = middle;
         else
             first = middle + 1;
     }
-    return first;
-}
-
-// Where, between `lower` and `upper`, a function linear between `atLower` and `atUpper` reaches
-// `target`.
-float interpolate(float lower, float upper, double atLower, double atUpper, double target) {
-    const double span = atUpper - atLower;
+    const double atLower = at(first), span = at(first + 1) - atLower;
     const double t = span > 0.0 ? std::clamp((target - atLower) / span, 0.0, 1.0) : 0.0;
-    return std::clamp(float(lower + t * (upper - lower)), lower, upper);
+    const float point = (float(first) + float(t)) / float(cells);
+    return {first, std::clamp(point, lower, upper)};
 }
 
 }  // namespace
@@ -106,12 +104,8 @@ std::optional<WindowedDistribution2D::Sample> WindowedDistribution2D::sample(
     const int firstColumn = std::clamp(int(window.lower.x * float(width_)), 0, width_ - 1);
     const int lastColumn =
         std::clamp(int(std::ceil(window.upper.x * float(width_))) - 1, firstColumn, width_ - 1);
-    const int column =
-        firstWhere(firstColumn, lastColumn, [&](int c) { return marginalAt(c + 1) > targetX; });
-    const float x =
-        std::clamp(interpolate(float(column) / float(width_), float(column + 1) / float(width_),
-                               marginalAt(column), marginalAt(column + 1), targetX),
-                   window.lower.x, window.upper.x);
+    const auto [column, x] = invertOnGrid(firstColumn, lastColumn, width_, window.lower.x,
+                                          window.upper.x, marginalAt, targetX);
 
     // The conditional in y within that column: G(y), the integral over the column's width and
     // [0, y], likewise linear within each row, at row boundaries a difference of two corner sums.
@@ -127,12 +121,8 @@ std::optional<WindowedDistribution2D::Sample> WindowedDistribution2D::sample(
     const int firstRow = bottom.row;
     const int lastRow =
         std::clamp(int(std::ceil(window.upper.y * float(height_))) - 1, firstRow, height_ - 1);
-    const int row =
-        firstWhere(firstRow, lastRow, [&](int r) { return conditionalAt(r + 1) > targetY; });
-    const float y =
-        std::clamp(interpolate(float(row) / float(height_), float(row + 1) / float(height_),
-                               conditionalAt(row), conditionalAt(row + 1), targetY),
-                   window.lower.y, window.upper.y);
+    const auto [row, y] = invertOnGrid(firstRow, lastRow, height_, window.lower.y, window.upper.y,
+                                       conditionalAt, targetY);
 
     const float density = values_[size_t(row) * width_ + size_t(column)];
     if (!(density > 0.0f))
