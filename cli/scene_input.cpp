@@ -315,17 +315,17 @@ void applyEnvironment(const EnvironmentInput& input, SceneDescription& descripti
     }
 }
 
-// `scene` rebuilt with the openings detectPortals() finds added to its environment's portals; the
-// portals found are printed in --portal's form (the file's frame) unless `quiet`, so that a user
-// can give them again, or edit them.
-std::unique_ptr<Scene> withDetectedPortals(std::unique_ptr<Scene> scene, bool quiet) {
-    const std::vector<Portal> found = detectPortals(*scene);
-    const SceneDescription& description = scene->description();
+// Adds the openings detectPortals() finds to the scene's environment's portals; the portals found
+// are printed in --portal's form (the file's frame) unless `quiet`, so that a user can give them
+// again, or edit them.
+void addDetectedPortals(Scene& scene, bool quiet) {
+    const std::vector<Portal> found = detectPortals(scene);
+    const SceneDescription& description = scene.description();
     if (found.empty()) {
         std::cerr << "penumbra: warning: --portal auto: " << description.file
                   << ": found no opening to the environment (no enclosed interior, or none of "
                      "its rays leaves it); the environment is sampled without portals\n";
-        return scene;
+        return;
     }
     if (!quiet) {
         std::cerr << "penumbra: --portal auto: " << found.size() << " opening"
@@ -338,10 +338,7 @@ std::unique_ptr<Scene> withDetectedPortals(std::unique_ptr<Scene> scene, bool qu
                       << "," << c2.z << "  (" << p.area() << " m²)\n";
         }
     }
-    SceneDescription withPortals = description;
-    for (const Portal& p : found)
-        withPortals.environment->portals.push_back(p);
-    return std::make_unique<Scene>(std::move(withPortals));
+    scene.addPortals(found);
 }
 
 // The luminaire's frame from the script's aim and C0 direction: the nadir (-Z of the frame) along
@@ -411,7 +408,7 @@ std::unique_ptr<Scene> loadScene(const SceneInput& input) {
     auto scene = std::make_unique<Scene>(std::move(description));
     const auto& portals = input.environment.portals;
     if (std::find(portals.begin(), portals.end(), "auto") != portals.end())
-        scene = withDetectedPortals(std::move(scene), input.quiet);
+        addDetectedPortals(*scene, input.quiet);
     if (!input.quiet && scene->lights().empty()) {
         std::cerr << "penumbra: warning: " << input.path
                   << ": the scene has no lights and no emissive surfaces; the image will be "

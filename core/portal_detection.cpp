@@ -41,6 +41,7 @@ float enclosure(const Scene& scene, const Vec3& p, const std::vector<Vec3>& dire
 struct Crossing {
     Vec3 p;       // where the escaping ray crossed the opening
     Vec3 normal;  // the plane of the wall around it, towards the inside
+    Vec3 d;       // the escaping ray's direction
 };
 
 // Where the ray from p along d (which leaves the scene) crossed the opening: rays turned by
@@ -68,7 +69,7 @@ std::optional<Crossing> crossing(const Scene& scene, const Vec3& p, const Vec3& 
         const float t = glm::dot(nearest->p - p, n) / glm::dot(d, n);
         if (!(t > 0.0f) || !std::isfinite(t))
             return std::nullopt;
-        return Crossing{p + t * d, n};
+        return Crossing{p + t * d, n, d};
     }
     return std::nullopt;
 }
@@ -111,28 +112,52 @@ struct Box {
     }
 };
 
-// The openings in one wall's plane, as portals: its crossings linked by steps shorter than
-// `gap`, each group's rectangle, rectangles within `gap` of each other merged (the panes of one
-// window between its mullions), those of fewer than `least` crossings dropped (stray rays through
-// a crack), the rest enlarged by half the gap on every side, for the crossings sample the
-// opening's inside, not its edge. One edge is horizontal (across +Y) unless the plane is nearly
-// horizontal, a skylight, whose edges follow X and Z.
-void openingsInPlane(const std::vector<Crossing>& crossings, const std::vector<size_t>& plane,
-                     float gap, size_t least, std::vector<Portal>& portals) {
-    Vec3 n(0.0f), centre(0.0f);
-    for (const size_t i : plane) {
+// The openings in one wall, as portals. A window has depth (a frame, sashes at two depths, a
+// reveal), so the crossings found around it lie in parallel planes a few centimetres apart; each
+// escaping ray is followed on to the outermost of them, where every ray through the opening
+// passes, and the window is one portal there, not pieces at three depths. In that plane: the
+// crossings linked by steps shorter than `gap`, each group's rectangle, rectangles within `gap`
+// of each other merged (the panes of one window between its mullions), those of fewer than
+// `least` crossings dropped (stray rays through a crack), the rest enlarged by half the gap on
+// every side, for the crossings sample the opening's inside, not its edge. One edge is
+// horizontal (across +Y) unless the plane is nearly horizontal, a skylight, whose edges follow X
+// and Z.
+void openingsInWall(const std::vector<Crossing>& crossings, const std::vector<size_t>& wall,
+                    float gap, size_t least, std::vector<Portal>& portals) {
+    Vec3 n(0.0f);
+    for (const size_t i : wall)
         n += crossings[i].normal;
-        centre += crossings[i].p;
+    n = glm::normalize(n);  // towards the inside
+    float outermost = INFINITY;
+    for (const size_t i : wall)
+        outermost = std::min(outermost, glm::dot(crossings[i].p, n));
+    std::vector<Vec3> onPlane;
+    Vec3 centre(0.0f);
+    for (const size_t i : wall) {
+        const Crossing& c = crossings[i];
+        // The escaping ray leaves against n, so the step along it is never negative.
+        const float t = (outermost - glm::dot(c.p, n)) / std::min(glm::dot(c.d, n), -1e-3f);
+        onPlane.push_back(c.p + t * c.d);
+        centre += onPlane.back();
     }
-    n = glm::normalize(n);
-    centre /= float(plane.size());
+    centre /= float(onPlane.size());
     const Vec3 u = std::abs(n.y) < 0.9f ? glm::normalize(glm::cross(Vec3(0, 1, 0), n))
                                         : glm::normalize(glm::cross(n, Vec3(0, 0, 1)));
     const Vec3 v = glm::cross(n, u);
+    std::vector<Vec2> all;
+    for (const Vec3& p : onPlane)
+        all.push_back(Vec2(glm::dot(p - centre, u), glm::dot(p - centre, v)));
+    // Only crossings in a dense crowd count, as in DBSCAN (Ester et al. 1996): a few stray rays
+    // (past a frame that does not close, off a misjudged plane) would otherwise chain two windows
+    // into one portal across the wall between them, or stretch one over its surroundings.
+    constexpr int kCrowd = 4;
     std::vector<Vec2> uv;
-    for (const size_t i : plane)
-        uv.push_back(
-            Vec2(glm::dot(crossings[i].p - centre, u), glm::dot(crossings[i].p - centre, v)));
+    for (const Vec2& a : all) {
+        const auto near = std::count_if(all.begin(), all.end(),
+                                        [&](const Vec2& b) { return glm::distance(a, b) <= gap; });
+        if (near > kCrowd)  // itself and kCrowd others
+            uv.push_back(a);
+    }
     std::vector<Box> boxes;
     for (const std::vector<size_t>&group : components(
              uv.size(), [&](size_t i, size_t j) { return glm::distance(uv[i], uv[j]) <= gap; })) {
@@ -197,35 +222,55 @@ std::vector<Portal> detectPortals(const Scene& scene, const PortalDetectionSetti
     const float radius = scene.bounds().boundingRadius();
     const float offset = 1e-3f * radius;
 
-    std::vector<std::vector<Crossing>> found(size_t(settings.origins));
-    tbb::parallel_for(0, settings.origins, [&](int o) {
-        std::mt19937 random(uint32_t(o) * 2654435761u + 17u);
-        std::uniform_real_distribution<float> uniform(0.0f, 1.0f);
-        const auto [mesh, triangle] = triangles[invertCdf(cdf, uniform(random)).index];
-        const Vec3 b = sampleUniformTriangle(Vec2(uniform(random), uniform(random)));
-        const SurfaceHit hit = scene.surfaceAt(mesh, triangle, b);
-        for (const float side : {1.0f, -1.0f}) {
-            const Vec3 p = hit.p + side * (offset + glm::length(hit.pError)) * hit.ng;
-            if (enclosure(scene, p, directions) < settings.enclosedShare)
-                continue;
-            for (int r = 0; r < settings.raysPerOrigin; ++r) {
-                const Vec3 d = sampleUniformSphere(Vec2(uniform(random), uniform(random)));
-                if (firstOpaqueHit(scene, Ray{p, d}))
-                    continue;
-                if (const std::optional<Crossing> c = crossing(scene, p, d))
-                    found[size_t(o)].push_back(*c);
-            }
-        }
-    });
-    std::vector<Crossing> crossings;
-    for (const std::vector<Crossing>& f : found)
-        crossings.insert(crossings.end(), f.begin(), f.end());
-    // Crossings outside the scene's bounds met a plane far off: not an opening of it.
     const Bounds3 bounds = scene.bounds();
-    std::erase_if(crossings, [&](const Crossing& c) {
-        return glm::any(glm::lessThan(c.p, bounds.lo - Vec3(offset))) ||
-               glm::any(glm::greaterThan(c.p, bounds.hi + Vec3(offset)));
-    });
+    // The crossings from origins [first, first + count), those outside the scene's bounds left
+    // out (they met a plane far off, not an opening of the scene).
+    const auto crossingsFrom = [&](int first, int count) {
+        std::vector<std::vector<Crossing>> found(static_cast<size_t>(count));
+        tbb::parallel_for(0, count, [&](int k) {
+            const int o = first + k;
+            std::mt19937 random(uint32_t(o) * 2654435761u + 17u);
+            std::uniform_real_distribution<float> uniform(0.0f, 1.0f);
+            const auto [mesh, triangle] = triangles[invertCdf(cdf, uniform(random)).index];
+            const Vec3 b = sampleUniformTriangle(Vec2(uniform(random), uniform(random)));
+            const SurfaceHit hit = scene.surfaceAt(mesh, triangle, b);
+            for (const float side : {1.0f, -1.0f}) {
+                const Vec3 p = hit.p + side * (offset + glm::length(hit.pError)) * hit.ng;
+                if (enclosure(scene, p, directions) < settings.enclosedShare)
+                    continue;
+                for (int r = 0; r < settings.raysPerOrigin; ++r) {
+                    const Vec3 d = sampleUniformSphere(Vec2(uniform(random), uniform(random)));
+                    if (firstOpaqueHit(scene, Ray{p, d}))
+                        continue;
+                    if (const std::optional<Crossing> c = crossing(scene, p, d))
+                        found[size_t(k)].push_back(*c);
+                }
+            }
+        });
+        std::vector<Crossing> all;
+        for (const std::vector<Crossing>& f : found)
+            all.insert(all.end(), f.begin(), f.end());
+        std::erase_if(all, [&](const Crossing& c) {
+            return glm::any(glm::lessThan(c.p, bounds.lo - Vec3(offset))) ||
+                   glm::any(glm::greaterThan(c.p, bounds.hi + Vec3(offset)));
+        });
+        return all;
+    };
+    // A first round of origins; then as many more as the rate it found them at says are needed
+    // for `targetCrossings` (small openings and large rooms give few per origin, and too few
+    // crossings leave an opening in pieces), up to `maxOrigins`. None in the first round: no
+    // opening worth a portal, and a closed room costs one round.
+    std::vector<Crossing> crossings = crossingsFrom(0, settings.origins);
+    if (!crossings.empty() && crossings.size() < size_t(settings.targetCrossings)) {
+        const double perOrigin = double(crossings.size()) / double(settings.origins);
+        const int more =
+            int(std::min(double(settings.maxOrigins - settings.origins),
+                         double(settings.targetCrossings) / perOrigin - double(settings.origins)));
+        if (more > 0) {
+            const std::vector<Crossing> rest = crossingsFrom(settings.origins, more);
+            crossings.insert(crossings.end(), rest.begin(), rest.end());
+        }
+    }
     // At most a few thousand crossings: the grouping compares every pair.
     constexpr size_t kMaxCrossings = 6000;
     if (crossings.size() > kMaxCrossings) {
@@ -234,18 +279,19 @@ std::vector<Portal> detectPortals(const Scene& scene, const PortalDetectionSetti
             kept.push_back(crossings[k * crossings.size() / kMaxCrossings]);
         crossings = std::move(kept);
     }
-    // The planes of the walls the crossings lie in: normals within about 8 degrees, offsets
-    // within a quarter of the gap.
+    // The walls the crossings lie in: normals within about 8 degrees, depths within a tenth of the
+    // scene's bounding radius (a wall's thickness, its window's reveal and frame).
     const float gap = 0.02f * radius;
-    const auto samePlane = [&](size_t i, size_t j) {
+    const float wallDepth = 0.05f * radius;
+    const auto sameWall = [&](size_t i, size_t j) {
         const Crossing &a = crossings[i], &b = crossings[j];
         return glm::dot(a.normal, b.normal) > 0.99f &&
-               std::abs(glm::dot(b.p - a.p, a.normal)) <= 0.25f * gap;
+               std::abs(glm::dot(b.p - a.p, a.normal)) <= wallDepth;
     };
-    const size_t least = std::max<size_t>(8, crossings.size() / 200);
+    const size_t least = std::max<size_t>(8, crossings.size() / 50);
     std::vector<Portal> portals;
-    for (const std::vector<size_t>& plane : components(crossings.size(), samePlane))
-        openingsInPlane(crossings, plane, gap, least, portals);
+    for (const std::vector<size_t>& wall : components(crossings.size(), sameWall))
+        openingsInWall(crossings, wall, gap, least, portals);
     std::sort(portals.begin(), portals.end(),
               [](const Portal& a, const Portal& b) { return a.area() > b.area(); });
     if (portals.size() > size_t(settings.maxPortals))

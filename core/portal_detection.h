@@ -5,10 +5,11 @@
 // those that leave the scene left it through an opening. Each such ray's crossing of the opening
 // is found on the plane of the wall around it: rays turned a little off it hit that wall, facing
 // them, and the crossing is where the escaping ray meets that wall's plane. The crossings are
-// grouped by plane and by distance, and each group's rectangle in its plane, a little enlarged,
-// is a portal. The environment light keeps a quarter of its samples on its own distribution
-// (core/environment_light.h), so a portal that is too small, too large or misplaced costs noise,
-// never correctness.
+// grouped by wall (parallel planes a few centimetres apart: a window's frame, sashes and
+// glazing bars), followed along their rays to the wall's outermost plane, grouped by distance there
+// (dense crowds only), and each group's rectangle, a little enlarged, is a portal. The environment
+// light keeps a quarter of its samples on its own distribution (core/environment_light.h), so a
+// portal that is too small, too large or misplaced costs noise, never correctness.
 #pragma once
 
 #include "core/portals.h"
@@ -19,7 +20,9 @@
 namespace penumbra {
 
 struct PortalDetectionSettings {
-    int origins = 2048;           // points sampled on the surfaces (those enclosed are kept)
+    int origins = 2048;           // points sampled on the surfaces first (those enclosed are kept)
+    int targetCrossings = 4000;   // more points until this many rays found an opening...
+    int maxOrigins = 32768;       // ...or this many points were tried
     int raysPerOrigin = 32;       // directions from each kept point, uniform on the sphere
     float enclosedShare = 0.75f;  // a point is inside when this share of directions hit
     int maxPortals = 32;

@@ -4,6 +4,8 @@
 #include "core/punctual_lights.h"
 #include "core/triangle_light.h"
 
+#include <stdexcept>
+
 namespace penumbra {
 
 namespace {
@@ -64,15 +66,29 @@ Scene::Scene(SceneDescription description) : desc_(std::move(description)) {
         }
     }
     if (desc_.environment) {
-        const EnvironmentDesc& env = *desc_.environment;
-        auto light = std::make_unique<EnvironmentLight>(
-            env.radiance, env.worldToLocal, env.scale,
-            bounds_.empty() ? Vec3(0.0f) : bounds_.center(),
-            bounds_.empty() ? 1.0f : bounds_.boundingRadius(), env.file, env.sun, env.portals);
+        auto light = makeEnvironmentLight();
         environment_ = light.get();
         environmentIndex_ = static_cast<int>(lights_.size());
         lights_.push_back(std::move(light));
     }
+    lightSampler_ = std::make_unique<PowerLightSampler>(lights_);
+}
+
+std::unique_ptr<EnvironmentLight> Scene::makeEnvironmentLight() const {
+    const EnvironmentDesc& env = *desc_.environment;
+    return std::make_unique<EnvironmentLight>(
+        env.radiance, env.worldToLocal, env.scale, bounds_.empty() ? Vec3(0.0f) : bounds_.center(),
+        bounds_.empty() ? 1.0f : bounds_.boundingRadius(), env.file, env.sun, env.portals);
+}
+
+void Scene::addPortals(std::span<const Portal> portals) {
+    if (!desc_.environment)
+        throw std::logic_error("Scene::addPortals: the scene has no environment");
+    desc_.environment->portals.insert(desc_.environment->portals.end(), portals.begin(),
+                                      portals.end());
+    auto light = makeEnvironmentLight();
+    environment_ = light.get();
+    lights_[size_t(environmentIndex_)] = std::move(light);
     lightSampler_ = std::make_unique<PowerLightSampler>(lights_);
 }
 

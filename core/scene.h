@@ -91,7 +91,14 @@ class Scene {
     // Ray leaving a surface hit in direction w, offset robustly off the surface.
     static Ray spawnRay(const SurfaceHit& hit, const Vec3& w);
 
+    // Adds portals to the environment light, which is rebuilt with the light sampler; the
+    // geometry is not. For the openings found on this scene's own geometry
+    // (core/portal_detection.h), while loading, before the scene is shared. Needs an environment.
+    void addPortals(std::span<const Portal> portals);
+
   private:
+    std::unique_ptr<EnvironmentLight> makeEnvironmentLight() const;
+
     SceneDescription desc_;
     std::unique_ptr<Accel> accel_;
     std::vector<std::unique_ptr<Light>> lights_;

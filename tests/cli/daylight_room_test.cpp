@@ -13,6 +13,7 @@
 #include <cstdio>
 #include <string>
 #include <utility>
+#include <vector>
 
 namespace penumbra::test {
 namespace {
@@ -93,32 +94,34 @@ TEST(DaylitRoom, ClearSkyAndTheSunThroughAWindow) {
         "sun");
 }
 
-// --portal auto finds the window: a rectangle in the wall's plane (z = 2) that covers the 2 x 1.5 m
-// opening, x in [-1, 1] and y in [0.75, 2.25], with a margin of a few centimetres (the detector's
-// half gap, a hundredth of the scene's bounding radius), and no other opening.
-TEST(DaylitRoom, FindsItsWindowAsAPortal) {
-    TempDir dir("daylit-room-auto-portal");
-    const CliResult r = runPenumbra("render " + kRoom + " -o " + dir.file("room.exr") +
-                                    " --width 8 --height 8 --spp 1 --sky cie-overcast "
-                                    "--portal auto");
-    ASSERT_EQ(r.status, 0) << r.output;
-    ASSERT_NE(r.output.find("1 opening found"), std::string::npos) << r.output;
-    const size_t at = r.output.find("  --portal ");
-    ASSERT_NE(at, std::string::npos) << r.output;
-    std::array<double, 9> c{};
-    ASSERT_EQ(std::sscanf(r.output.c_str() + at, "  --portal %lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf",
-                          &c[0], &c[1], &c[2], &c[3], &c[4], &c[5], &c[6], &c[7], &c[8]),
-              9)
-        << r.output;
-    // The four corners: c0, c1, c2 and c1 + c2 - c0.
+// The portals `render --portal auto` printed, as their three corners: c0, c1, c2 (the fourth
+// is c1 + c2 - c0).
+std::vector<std::array<double, 9>> printedPortals(const std::string& output) {
+    std::vector<std::array<double, 9>> portals;
+    for (size_t at = output.find("  --portal "); at != std::string::npos;
+         at = output.find("  --portal ", at + 1)) {
+        std::array<double, 9> c{};
+        if (std::sscanf(output.c_str() + at, "  --portal %lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf",
+                        &c[0], &c[1], &c[2], &c[3], &c[4], &c[5], &c[6], &c[7], &c[8]) == 9)
+            portals.push_back(c);
+    }
+    return portals;
+}
+
+// A portal found in a wall of constant z covers the opening x in [-1, 1], y in [0.75, 2.25],
+// with a margin of at most 8 cm (the detector's half gap, a hundredth of the scene's bounding
+// radius, and the crossings' spread), and lies in a plane z between zLow and zHigh.
+void expectCoversTheWindow(const std::array<double, 9>& c, double zLow, double zHigh) {
     double x0 = 1e9, x1 = -1e9, y0 = 1e9, y1 = -1e9;
     for (int k = 0; k < 3; ++k) {
-        EXPECT_NEAR(c[3 * k + 2], 2.0, 1e-3) << "corner " << k << " off the wall's plane";
+        EXPECT_NEAR(c[3 * k + 2], c[2], 1e-3) << "corner " << k << " off the portal's plane";
         x0 = std::min(x0, c[3 * k]);
         x1 = std::max(x1, c[3 * k]);
         y0 = std::min(y0, c[3 * k + 1]);
         y1 = std::max(y1, c[3 * k + 1]);
     }
+    EXPECT_GE(c[2], zLow);
+    EXPECT_LE(c[2], zHigh);
     for (const auto& [found, window] : {std::pair{x0, -1.0}, {y0, 0.75}}) {
         EXPECT_LE(found, window);
         EXPECT_GE(found, window - 0.08);
@@ -127,6 +130,64 @@ TEST(DaylitRoom, FindsItsWindowAsAPortal) {
         EXPECT_GE(found, window);
         EXPECT_LE(found, window + 0.08);
     }
+}
+
+// --portal auto finds the window: a rectangle in the wall's plane (z = 2) that covers the 2 x 1.5 m
+// opening, and no other opening.
+TEST(DaylitRoom, FindsItsWindowAsAPortal) {
+    TempDir dir("daylit-room-auto-portal");
+    const CliResult r = runPenumbra("render " + kRoom + " -o " + dir.file("room.exr") +
+                                    " --width 8 --height 8 --spp 1 --sky cie-overcast "
+                                    "--portal auto");
+    ASSERT_EQ(r.status, 0) << r.output;
+    ASSERT_NE(r.output.find("1 opening found"), std::string::npos) << r.output;
+    const std::vector<std::array<double, 9>> portals = printedPortals(r.output);
+    ASSERT_EQ(portals.size(), 1u) << r.output;
+    expectCoversTheWindow(portals[0], 2.0 - 1e-3, 2.0 + 1e-3);
+}
+
+// An axis-aligned box, its faces outwards.
+void addBox(GltfBuilder& gltf, const Vec3& lo, const Vec3& hi, int material) {
+    const auto corner = [&](int k) {
+        return Vec3(k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z);
+    };
+    gltf.addQuad(corner(0), corner(2), corner(3), corner(1), material);  // -z
+    gltf.addQuad(corner(4), corner(5), corner(7), corner(6), material);  // +z
+    gltf.addQuad(corner(0), corner(4), corner(6), corner(2), material);  // -x
+    gltf.addQuad(corner(1), corner(3), corner(7), corner(5), material);  // +x
+    gltf.addQuad(corner(0), corner(1), corner(5), corner(4), material);  // -y
+    gltf.addQuad(corner(2), corner(6), corner(7), corner(3), material);  // +y
+}
+
+// A window in a 30-cm wall, as real ones are: the opening's reveals, a meeting rail 8-12 cm into
+// the wall and a vertical glazing bar 18-22 cm into it. The surfaces around the escaping rays lie
+// at several depths and orientations (the wall's face, the rail's, the bar's, the reveals and the
+// rail's top and bottom); the window is still one portal, in a plane within the wall's depth.
+TEST(DaylitRoom, FindsAWindowWithDepthAsOnePortal) {
+    TempDir dir("daylit-room-deep-window");
+    GltfBuilder room;
+    const int white = room.addMaterial({.baseColor = Color(0.5f), .doubleSided = true});
+    // The room, 4 x 3 x 4 m, its south wall left out.
+    addBox(room, {-2.1f, -0.1f, -2.1f}, {2.1f, 0.0f, 2.0f}, white);  // floor
+    addBox(room, {-2.1f, 3.0f, -2.1f}, {2.1f, 3.1f, 2.0f}, white);   // ceiling
+    addBox(room, {-2.1f, 0.0f, -2.1f}, {2.1f, 3.0f, -2.0f}, white);  // north wall
+    addBox(room, {-2.1f, 0.0f, -2.0f}, {-2.0f, 3.0f, 2.0f}, white);  // west wall
+    addBox(room, {2.0f, 0.0f, -2.0f}, {2.1f, 3.0f, 2.0f}, white);    // east wall
+    // The south wall, z in [2, 2.3], around the opening.
+    addBox(room, {-2.1f, -0.1f, 2.0f}, {2.1f, 0.75f, 2.3f}, white);
+    addBox(room, {-2.1f, 2.25f, 2.0f}, {2.1f, 3.1f, 2.3f}, white);
+    addBox(room, {-2.1f, 0.75f, 2.0f}, {-1.0f, 2.25f, 2.3f}, white);
+    addBox(room, {1.0f, 0.75f, 2.0f}, {2.1f, 2.25f, 2.3f}, white);
+    addBox(room, {-1.0f, 1.47f, 2.08f}, {1.0f, 1.53f, 2.12f}, white);    // the meeting rail
+    addBox(room, {-0.03f, 0.75f, 2.18f}, {0.03f, 2.25f, 2.22f}, white);  // the glazing bar
+    room.write(dir.file("room.gltf"));
+    const CliResult r =
+        runPenumbra("render " + dir.file("room.gltf") + " -o " + dir.file("room.exr") +
+                    " --width 8 --height 8 --spp 1 --sky uniform --portal auto");
+    ASSERT_EQ(r.status, 0) << r.output;
+    const std::vector<std::array<double, 9>> portals = printedPortals(r.output);
+    ASSERT_EQ(portals.size(), 1u) << r.output;
+    expectCoversTheWindow(portals[0], 2.0, 2.3 + 1e-3);
 }
 
 // A room without a window and a floor in the open have no opening: a warning, and the
