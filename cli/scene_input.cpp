@@ -78,8 +78,8 @@ void addSceneInputOptions(CLI::App& command, SceneInput& input, PassScripts scri
         .add_option("--portal", input.environment.portals,
                     "A window the environment is seen through, sampled to light what is behind "
                     "it: X0,Y0,Z0,X1,Y1,Z1,X2,Y2,Z2, a corner and its two neighbours (metres, "
-                    "the file's world frame); repeat for several; or auto: the scene's openings, "
-                    "found")
+                    "the file's world frame); repeat for several; auto: the scene's openings, "
+                    "found (the default when there is an environment); none: no portal")
         ->take_all();
 }
 
@@ -302,7 +302,11 @@ void applyEnvironment(const EnvironmentInput& input, SceneDescription& descripti
         description.environment->sun = sun;
         description.environment->file += ", " + place->description;
     }
-    if (!input.portals.empty()) {
+    const bool none =
+        std::find(input.portals.begin(), input.portals.end(), "none") != input.portals.end();
+    if (none && input.portals.size() > 1)
+        throw UsageError("--portal none: no other --portal may be given with it");
+    if (!input.portals.empty() && !none) {
         if (!description.environment) {
             throw UsageError(
                 "--portal: the scene has no environment to see through it; give "
@@ -317,19 +321,22 @@ void applyEnvironment(const EnvironmentInput& input, SceneDescription& descripti
 
 // Adds the openings detectPortals() finds to the scene's environment's portals; the portals found
 // are printed in --portal's form (the file's frame) unless `quiet`, so that a user can give them
-// again, or edit them.
-void addDetectedPortals(Scene& scene, bool quiet) {
+// again, or edit them. Finding none is worth a warning only when the user `asked` for them.
+void addDetectedPortals(Scene& scene, bool asked, bool quiet) {
     const std::vector<Portal> found = detectPortals(scene);
     const SceneDescription& description = scene.description();
     if (found.empty()) {
-        std::cerr << "penumbra: warning: --portal auto: " << description.file
-                  << ": found no opening to the environment (no enclosed interior, or none of "
-                     "its rays leaves it); the environment is sampled without portals\n";
+        if (asked) {
+            std::cerr << "penumbra: warning: --portal auto: " << description.file
+                      << ": found no opening to the environment (no enclosed interior, or none "
+                         "of its rays leaves it); the environment is sampled without portals\n";
+        }
         return;
     }
     if (!quiet) {
-        std::cerr << "penumbra: --portal auto: " << found.size() << " opening"
-                  << (found.size() > 1 ? "s" : "") << " found:\n";
+        std::cerr << "penumbra: portals: " << found.size() << " opening"
+                  << (found.size() > 1 ? "s" : "")
+                  << " found, the environment sampled through them (--portal none: not):\n";
         for (const Portal& p : found) {
             const glm::dvec3 o = description.origin, c0 = glm::dvec3(p.corner) + o,
                              c1 = c0 + glm::dvec3(p.edge1), c2 = c0 + glm::dvec3(p.edge2);
@@ -406,9 +413,13 @@ std::unique_ptr<Scene> loadScene(const SceneInput& input) {
         }
     }
     auto scene = std::make_unique<Scene>(std::move(description));
+    // The openings are found when asked, and by default for a scene with an environment: an
+    // interior lit through its windows converges faster with them, and a scene in the open has
+    // none to find.
     const auto& portals = input.environment.portals;
-    if (std::find(portals.begin(), portals.end(), "auto") != portals.end())
-        addDetectedPortals(*scene, input.quiet);
+    const bool asked = std::find(portals.begin(), portals.end(), "auto") != portals.end();
+    if (asked || (portals.empty() && scene->environment()))
+        addDetectedPortals(*scene, asked, input.quiet);
     if (!input.quiet && scene->lights().empty()) {
         std::cerr << "penumbra: warning: " << input.path
                   << ": the scene has no lights and no emissive surfaces; the image will be "

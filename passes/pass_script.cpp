@@ -21,8 +21,8 @@
 //   time         string (ISO 8601)         none               local time with its UTC offset
 //   north        float                     0                  true north from -Z, degrees
 //   sun_direct_normal     float >= 0       none               the sun's E_n, lux
-//   portals      string or array of them   none               windows, "X0,Y0,Z0,...,Z2" each,
-//                                                             or "auto": found
+//   portals      string or array of them   "auto"             windows, "X0,Y0,Z0,...,Z2" each,
+//                                                             "auto": found, "none": no portal
 //   luminaire    array of tables           none               measured luminaires: file,
 //                                                             position, aim, c0, multiplier,
 //                                                             color (docs/pass-scripts.md)
@@ -465,12 +465,13 @@ ScriptLuminaire readLuminaire(const ScriptTable& t) {
     return luminaire;
 }
 
-// The portals, each checked at its place ("auto": the scene's openings, found when it is loaded).
+// The portals, each checked at its place ("auto": the scene's openings, found when it is loaded;
+// "none": no portal, not even found ones).
 std::vector<std::string> readPortals(const ScriptTable& top) {
     std::vector<std::string> portals;
     for (const auto& [text, where] : top.strings("portals")) {
         try {
-            if (text != "auto")
+            if (text != "auto" && text != "none")
                 parsePortalCorners(text);
         } catch (const std::invalid_argument& e) {
             throw top.error(where, "portals", e.what());

@@ -272,7 +272,7 @@ TEST(Illuminance, DaylightFactorUnderARoofLight) {
     const CliResult result = runPenumbra(
         "illuminance " + dir.file("scene.gltf") + " --points " + dir.file("points.csv") + " -o " +
         dir.file("out.csv") + " --quiet --sky cie-overcast --sky-illuminance 10000 --spp 32768 " +
-        "--daylight-factor");
+        "--daylight-factor --portal none");
     ASSERT_EQ(result.status, 0) << result.output;
     const CsvTable table = readCsvTable(dir.file("out.csv"));
     EXPECT_EQ(table.header,
@@ -318,6 +318,20 @@ TEST(Illuminance, DaylightFactorUnderARoofLight) {
                 withPortal[7]);
     EXPECT_NEAR(withPortal[6], E, 4.0 * withPortal[7] + 1e-3 * E);
     EXPECT_LT(withPortal[7], values[7]);
+
+    // By default the opening is found and made a portal: the same at an eighth of the samples.
+    const CliResult found = runPenumbra(
+        "illuminance " + dir.file("scene.gltf") + " --points " + dir.file("points.csv") + " -o " +
+        dir.file("found.csv") + " --quiet --sky cie-overcast --sky-illuminance 10000 --spp 4096");
+    ASSERT_EQ(found.status, 0) << found.output;
+    const CsvTable foundTable = readCsvTable(dir.file("found.csv"));
+    ASSERT_EQ(foundTable.rows.size(), 1u);
+    const std::vector<double>& withFound = foundTable.rows[0];
+    ASSERT_EQ(withFound.size(), 8u);
+    std::printf("[ measured ] with the opening found, 4096 samples: E = %.3f +- %.3f lux\n",
+                withFound[6], withFound[7]);
+    EXPECT_NEAR(withFound[6], E, 4.0 * withFound[7] + 1e-3 * E);
+    EXPECT_LT(withFound[7], values[7]);
 
     // Only under an overcast sky without the sun.
     const CliResult clear =
