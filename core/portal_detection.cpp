@@ -279,8 +279,8 @@ std::vector<Portal> detectPortals(const Scene& scene, const PortalDetectionSetti
             kept.push_back(crossings[k * crossings.size() / kMaxCrossings]);
         crossings = std::move(kept);
     }
-    // The walls the crossings lie in: normals within about 8 degrees, depths within a tenth of the
-    // scene's bounding radius (a wall's thickness, its window's reveal and frame).
+    // The walls the crossings lie in: normals within about 8 degrees, depths within a twentieth of
+    // the scene's bounding radius (a wall's thickness, its window's reveal and frame).
     const float gap = 0.02f * radius;
     const float wallDepth = 0.05f * radius;
     const auto sameWall = [&](size_t i, size_t j) {

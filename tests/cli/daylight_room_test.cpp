@@ -146,6 +146,23 @@ TEST(DaylitRoom, FindsItsWindowAsAPortal) {
     expectCoversTheWindow(portals[0], 2.0 - 1e-3, 2.0 + 1e-3);
 }
 
+// The openings are found by default when there is an environment, not with --portal none, and
+// none cannot be given with other portals.
+TEST(DaylitRoom, FindsItsWindowByDefaultUnlessTold) {
+    TempDir dir("daylit-room-default-portal");
+    const std::string render = "render " + kRoom + " -o " + dir.file("room.exr") +
+                               " --width 8 --height 8 --spp 1 --sky cie-overcast";
+    const CliResult byDefault = runPenumbra(render);
+    ASSERT_EQ(byDefault.status, 0) << byDefault.output;
+    EXPECT_EQ(printedPortals(byDefault.output).size(), 1u) << byDefault.output;
+    const CliResult none = runPenumbra(render + " --portal none");
+    ASSERT_EQ(none.status, 0) << none.output;
+    EXPECT_EQ(none.output.find("opening"), std::string::npos) << none.output;
+    const CliResult both = runPenumbra(render + " --portal none auto");
+    EXPECT_EQ(both.status, 2) << both.output;
+    EXPECT_NE(both.output.find("--portal none"), std::string::npos) << both.output;
+}
+
 // An axis-aligned box, its faces outwards.
 void addBox(GltfBuilder& gltf, const Vec3& lo, const Vec3& hi, int material) {
     const auto corner = [&](int k) {
