@@ -319,10 +319,10 @@ void applyEnvironment(const EnvironmentInput& input, SceneDescription& descripti
     }
 }
 
-// Adds the openings detectPortals() finds to the scene's environment's portals; the portals found
-// are printed in --portal's form (the file's frame) unless `quiet`, so that a user can give them
-// again, or edit them. Finding none is worth a warning only when the user `asked` for them.
-void addDetectedPortals(Scene& scene, bool asked, bool quiet) {
+// The openings detectPortals() finds, for the scene's environment's portals; they are printed in
+// --portal's form (the file's frame) unless `quiet`, so that a user can give them again, or edit
+// them. Finding none is worth a warning only when the user `asked` for them.
+std::vector<Portal> detectedPortals(const Scene& scene, bool asked, bool quiet) {
     const std::vector<Portal> found = detectPortals(scene);
     const SceneDescription& description = scene.description();
     if (found.empty()) {
@@ -331,7 +331,7 @@ void addDetectedPortals(Scene& scene, bool asked, bool quiet) {
                       << ": found no opening to the environment (no enclosed interior, or none "
                          "of its rays leaves it); the environment is sampled without portals\n";
         }
-        return;
+        return found;
     }
     if (!quiet) {
         std::cerr << "penumbra: portals: " << found.size() << " opening"
@@ -345,7 +345,7 @@ void addDetectedPortals(Scene& scene, bool asked, bool quiet) {
                       << "," << c2.z << "  (" << p.area() << " m²)\n";
         }
     }
-    scene.addPortals(found);
+    return found;
 }
 
 // The luminaire's frame from the script's aim and C0 direction: the nadir (-Z of the frame) along
@@ -412,14 +412,18 @@ std::unique_ptr<Scene> loadScene(const SceneInput& input) {
             std::cerr << "penumbra: warning: " << warning << "\n";
         }
     }
-    auto scene = std::make_unique<Scene>(std::move(description));
     // The openings are found when asked, and by default for a scene with an environment: an
     // interior lit through its windows converges faster with them, and a scene in the open has
     // none to find.
     const auto& portals = input.environment.portals;
     const bool asked = std::find(portals.begin(), portals.end(), "auto") != portals.end();
-    if (asked || (portals.empty() && scene->environment()))
-        addDetectedPortals(*scene, asked, input.quiet);
+    Scene::PortalFinder findPortals;
+    if (asked || (portals.empty() && description.environment)) {
+        findPortals = [asked, quiet = input.quiet](const Scene& scene) {
+            return detectedPortals(scene, asked, quiet);
+        };
+    }
+    auto scene = std::make_unique<Scene>(std::move(description), findPortals);
     if (!input.quiet && scene->lights().empty()) {
         std::cerr << "penumbra: warning: " << input.path
                   << ": the scene has no lights and no emissive surfaces; the image will be "

@@ -4,8 +4,6 @@
 #include "core/punctual_lights.h"
 #include "core/triangle_light.h"
 
-#include <stdexcept>
-
 namespace penumbra {
 
 namespace {
@@ -16,7 +14,8 @@ bool canBeTransparent(const Material& m) {
 
 }  // namespace
 
-Scene::Scene(SceneDescription description) : desc_(std::move(description)) {
+Scene::Scene(SceneDescription description, const PortalFinder& findPortals)
+    : desc_(std::move(description)) {
     for (const Mesh& mesh : desc_.meshes) {
         for (const Vec3& p : mesh.positions)
             bounds_.extend(p);
@@ -26,6 +25,11 @@ Scene::Scene(SceneDescription description) : desc_(std::move(description)) {
     for (const Mesh& mesh : desc_.meshes) {
         hasTransparentSurfaces_ =
             hasTransparentSurfaces_ || canBeTransparent(desc_.materials[mesh.material]);
+    }
+    if (desc_.environment && findPortals) {
+        const std::vector<Portal> found = findPortals(*this);
+        desc_.environment->portals.insert(desc_.environment->portals.end(), found.begin(),
+                                          found.end());
     }
 
     // Punctual lights and luminaires first, then one area light per emissive triangle, then the
@@ -66,29 +70,15 @@ Scene::Scene(SceneDescription description) : desc_(std::move(description)) {
         }
     }
     if (desc_.environment) {
-        auto light = makeEnvironmentLight();
+        const EnvironmentDesc& env = *desc_.environment;
+        auto light = std::make_unique<EnvironmentLight>(
+            env.radiance, env.worldToLocal, env.scale,
+            bounds_.empty() ? Vec3(0.0f) : bounds_.center(),
+            bounds_.empty() ? 1.0f : bounds_.boundingRadius(), env.file, env.sun, env.portals);
         environment_ = light.get();
         environmentIndex_ = static_cast<int>(lights_.size());
         lights_.push_back(std::move(light));
     }
-    lightSampler_ = std::make_unique<PowerLightSampler>(lights_);
-}
-
-std::unique_ptr<EnvironmentLight> Scene::makeEnvironmentLight() const {
-    const EnvironmentDesc& env = *desc_.environment;
-    return std::make_unique<EnvironmentLight>(
-        env.radiance, env.worldToLocal, env.scale, bounds_.empty() ? Vec3(0.0f) : bounds_.center(),
-        bounds_.empty() ? 1.0f : bounds_.boundingRadius(), env.file, env.sun, env.portals);
-}
-
-void Scene::addPortals(std::span<const Portal> portals) {
-    if (!desc_.environment)
-        throw std::logic_error("Scene::addPortals: the scene has no environment");
-    desc_.environment->portals.insert(desc_.environment->portals.end(), portals.begin(),
-                                      portals.end());
-    auto light = makeEnvironmentLight();
-    environment_ = light.get();
-    lights_[size_t(environmentIndex_)] = std::move(light);
     lightSampler_ = std::make_unique<PowerLightSampler>(lights_);
 }
 

@@ -12,6 +12,7 @@
 #include "core/ray.h"
 #include "core/scene_description.h"
 
+#include <functional>
 #include <memory>
 #include <optional>
 #include <span>
@@ -21,7 +22,12 @@ namespace penumbra {
 
 class Scene {
   public:
-    explicit Scene(SceneDescription description);
+    // Finds more portals for the environment on the scene's geometry (core/portal_detection.h),
+    // called while the scene is built: after its geometry, before its lights, which it must not
+    // use.
+    using PortalFinder = std::function<std::vector<Portal>(const Scene&)>;
+
+    explicit Scene(SceneDescription description, const PortalFinder& findPortals = nullptr);
     // Lights and the acceleration structure point into the description's arrays.
     Scene(const Scene&) = delete;
     Scene& operator=(const Scene&) = delete;
@@ -91,14 +97,7 @@ class Scene {
     // Ray leaving a surface hit in direction w, offset robustly off the surface.
     static Ray spawnRay(const SurfaceHit& hit, const Vec3& w);
 
-    // Adds portals to the environment light, which is rebuilt with the light sampler; the
-    // geometry is not. For the openings found on this scene's own geometry
-    // (core/portal_detection.h), while loading, before the scene is shared. Needs an environment.
-    void addPortals(std::span<const Portal> portals);
-
   private:
-    std::unique_ptr<EnvironmentLight> makeEnvironmentLight() const;
-
     SceneDescription desc_;
     std::unique_ptr<Accel> accel_;
     std::vector<std::unique_ptr<Light>> lights_;
