@@ -34,6 +34,10 @@ Steps (linear EXR images, in --workdir):
      counts as error once Cycles' noise falls below it). A table of every run, then one of the
      medians over the repeats.
 
+An environment-lit scene (--environment: the scene's own map, or a file given to both renderers)
+is rendered in Cycles by bench/cycles_environment.py, which runs the same harness with the map as
+Cycles' world, looked up in penumbra's orientation.
+
 Timings: penumbra's is the whole pipeline as its EXR records it (`penumbra:seconds`: every pass,
 the radiosity solve and the photon map included, and the ~0.1 s of scene loading); Cycles' is
 `render_s` of cycles_render.py (bpy.ops.render.render: scene sync, BVH build and path tracing,
@@ -81,6 +85,11 @@ def channel_ratios(test, ref):
     return [t / r for t, r in zip(channel_means(test), channel_means(ref))]
 
 
+def size(a):
+    """The image size in file names: 128px for a square, 160x90 otherwise."""
+    return "%dpx" % a.width if a.width == a.height else "%dx%d" % (a.width, a.height)
+
+
 def run(cmd):
     print("$ " + " ".join(cmd), flush=True)
     return subprocess.run(cmd, check=True, capture_output=True, text=True)
@@ -89,8 +98,10 @@ def run(cmd):
 def run_penumbra(a, out, pipeline, seed, spp=None, time_limit=None):
     """Renders with penumbra; spp and seconds are those the EXR records."""
     cmd = [a.penumbra, "render", a.scene, "-o", out, "--pipeline", pipeline,
-           "--width", str(a.size), "--height", str(a.size), "--seed", str(seed),
+           "--width", str(a.width), "--height", str(a.height), "--seed", str(seed),
            "--threads", str(a.threads)]
+    if a.environment not in (None, "scene"):
+        cmd += ["--environment", a.environment]
     if time_limit is not None:
         cmd += ["--time-limit", str(time_limit), "--spp", "1000000"]
     else:
@@ -101,9 +112,18 @@ def run_penumbra(a, out, pipeline, seed, spp=None, time_limit=None):
 
 
 def run_cycles(a, out, spp, seed):
-    cmd = [a.blender, "-b", "--factory-startup", "-P",
-           os.path.join(a.peers, "cycles_render.py"), "--", "--scene", a.scene, "--out", out,
-           "--spp", str(spp), "--width", str(a.size), "--height", str(a.size),
+    """Renders with Cycles through the peer harness; with --environment, through
+    cycles_environment.py, which runs the harness with the map as the world."""
+    if a.environment is None:
+        script = [os.path.join(a.peers, "cycles_render.py"), "--"]
+    else:
+        script = [os.path.join(os.path.dirname(os.path.abspath(__file__)),
+                               "cycles_environment.py"), "--", "--peers", a.peers]
+        if a.environment != "scene":
+            script += ["--environment", a.environment]
+    cmd = [a.blender, "-b", "--factory-startup", "-P"] + script + [
+           "--scene", a.scene, "--out", out,
+           "--spp", str(spp), "--width", str(a.width), "--height", str(a.height),
            "--threads", str(a.threads), "--seed", str(seed)]
     log = run(cmd).stdout
     materials = re.findall(r"^material .*$", log, re.MULTILINE)
@@ -115,13 +135,11 @@ def reference_image(a, w):
     """Step 1: the given reference (which sets --size) or a long path-traced render."""
     if a.reference:
         ref, metadata = load(a.reference)
-        if ref.shape[0] != ref.shape[1]:
-            raise SystemExit("%s: the comparison renders square images" % a.reference)
-        a.size = ref.shape[0]
-        print("reference %s: %d x %d, %s spp" % (a.reference, a.size, a.size,
+        a.height, a.width = ref.shape[0], ref.shape[1]
+        print("reference %s: %d x %d, %s spp" % (a.reference, a.width, a.height,
                                                  metadata.get("penumbra:spp", "?")))
         return ref
-    path = w("penumbra_ref_%dpx_%dspp.exr" % (a.size, a.ref_spp))
+    path = w("penumbra_ref_%s_%dspp.exr" % (size(a), a.ref_spp))
     if not os.path.exists(path):
         info = run_penumbra(a, path, "reference", REF_SEED, spp=a.ref_spp)
         print("reference: %d spp in %.1f s" % (info["spp"], info["seconds"]), flush=True)
@@ -131,7 +149,7 @@ def reference_image(a, w):
 def compare_converged(a, w, ref):
     """Step 2: the per-channel mean ratio of a converged Cycles image to the reference; returns
     the image."""
-    path = w("cycles_%dpx_%dspp.exr" % (a.size, a.cycles_converged_spp))
+    path = w("cycles_%s_%dspp.exr" % (size(a), a.cycles_converged_spp))
     if not os.path.exists(path):
         info = run_cycles(a, path, a.cycles_converged_spp, REF_SEED)
         print("\n".join(info["materials"]))
@@ -148,13 +166,13 @@ def equal_time_runs(a, w, ref, converged):
     """Steps 3 to 5: every renderer at every budget, alternately; one row per render.
     converged: the converged Cycles image, or None."""
     n = a.calibration_spp
-    per_spp = run_cycles(a, w("cycles_cal_%dpx_%d.exr" % (a.size, n)), n, TEST_SEED)["seconds"] / n
+    per_spp = run_cycles(a, w("cycles_cal_%s_%d.exr" % (size(a), n)), n, TEST_SEED)["seconds"] / n
     print("Cycles calibration: %d spp, %.4f s/spp" % (n, per_spp), flush=True)
     rows = []
     for budget in a.budgets:
         for repeat in range(a.repeats):
             for renderer in a.pipelines + ["cycles"]:
-                out = w("%s_%dpx_%gs_%d.exr" % (renderer, a.size, budget, repeat))
+                out = w("%s_%s_%gs_%d.exr" % (renderer, size(a), budget, repeat))
                 if renderer == "cycles":
                     info = run_cycles(a, out, max(1, round(budget / per_spp)), TEST_SEED)
                     per_spp = info["seconds"] / info["spp"]
@@ -209,7 +227,7 @@ def main():
     ap.add_argument("--reference", default=None,
                     help="an existing converged image to compare with (sets the size)")
     ap.add_argument("--size", type=int, default=256, help="image width and height without "
-                    "--reference")
+                    "--reference (which gives them)")
     ap.add_argument("--peers", default=os.path.join(os.path.dirname(root), "shared", "peers"),
                     help="the peer harness (cycles_render.py); default: shared/peers beside the "
                     "repository (../shared/peers from its root), found from this script's place")
@@ -221,7 +239,11 @@ def main():
     ap.add_argument("--budgets", type=float, nargs="+", default=[2.0, 8.0, 30.0])
     ap.add_argument("--calibration-spp", type=int, default=32)
     ap.add_argument("--repeats", type=int, default=1)
+    ap.add_argument("--environment", nargs="?", const="scene", default=None,
+                    help="light Cycles' world with the scene's own environment map (its extras), "
+                    "or with FILE, through bench/cycles_environment.py")
     a = ap.parse_args()
+    a.width = a.height = a.size
     a.pipelines = a.pipelines.split(",")
     os.makedirs(a.workdir, exist_ok=True)
     w = lambda name: os.path.join(a.workdir, name)  # noqa: E731
