@@ -36,7 +36,8 @@ Steps (linear EXR images, in --workdir):
 
 An environment-lit scene (--environment: the scene's own map, or a file given to both renderers)
 is rendered in Cycles by bench/cycles_environment.py, which runs the same harness with the map as
-Cycles' world, looked up in penumbra's orientation.
+Cycles' world, looked up in penumbra's orientation; with --cycles-portals, Cycles also gets the
+openings penumbra finds as portals (Cycles samples the world through portal lights it is given).
 
 Timings: penumbra's is the whole pipeline as its EXR records it (`penumbra:seconds`: every pass,
 the radiosity solve and the photon map included, and the ~0.1 s of scene loading); Cycles' is
@@ -121,6 +122,8 @@ def run_cycles(a, out, spp, seed):
                                "cycles_environment.py"), "--", "--peers", a.peers]
         if a.environment != "scene":
             script += ["--environment", a.environment]
+        for portal in a.portals:
+            script += ["--portal", portal]
     cmd = [a.blender, "-b", "--factory-startup", "-P"] + script + [
            "--scene", a.scene, "--out", out,
            "--spp", str(spp), "--width", str(a.width), "--height", str(a.height),
@@ -129,6 +132,17 @@ def run_cycles(a, out, spp, seed):
     materials = re.findall(r"^material .*$", log, re.MULTILINE)
     result = json.loads(re.search(r"^CYCLES_RESULT (.*)$", log, re.MULTILINE).group(1))
     return {"spp": spp, "seconds": result["render_s"], "materials": materials}
+
+
+def found_portals(a):
+    """The openings penumbra finds as portals for the scene (`penumbra info`), in the form of
+    its --portal option."""
+    cmd = [a.penumbra, "info", a.scene]
+    if a.environment not in (None, "scene"):
+        cmd += ["--environment", a.environment]
+    portals = re.findall(r"^\s+--portal (\S+)", run(cmd).stderr, re.MULTILINE)
+    print("portals given to Cycles: %s" % (" ".join(portals) or "none found"), flush=True)
+    return portals
 
 
 def reference_image(a, w):
@@ -242,12 +256,18 @@ def main():
     ap.add_argument("--environment", nargs="?", const="scene", default=None,
                     help="light Cycles' world with the scene's own environment map (its extras), "
                     "or with FILE, through bench/cycles_environment.py")
+    ap.add_argument("--cycles-portals", action="store_true",
+                    help="with --environment: give Cycles, as portal lights, the openings "
+                    "penumbra finds as portals (penumbra info)")
     a = ap.parse_args()
     a.width = a.height = a.size
     a.pipelines = a.pipelines.split(",")
     os.makedirs(a.workdir, exist_ok=True)
     w = lambda name: os.path.join(a.workdir, name)  # noqa: E731
 
+    if a.cycles_portals and a.environment is None:
+        raise SystemExit("--cycles-portals needs --environment")
+    a.portals = found_portals(a) if a.cycles_portals else []
     ref = reference_image(a, w)
     converged = compare_converged(a, w, ref) if a.cycles_converged_spp > 0 else None
     print_tables(equal_time_runs(a, w, ref, converged))

@@ -8,12 +8,16 @@ makes it black):
 
     blender -b --factory-startup -P bench/cycles_environment.py -- \
         --peers ../shared/peers [--environment FILE] [--environment-scale S] \
-        [--environment-rotation DEG] CYCLES_RENDER_ARGS...
+        [--environment-rotation DEG] [--portal P ...] CYCLES_RENDER_ARGS...
 
 Without --environment, the map is the scene's own, read as penumbra reads it (docs/lights.md,
 "Environment light"): `scenes[0].extras.mitsuba_environment[0]` of the glTF file given by
 --scene (its file, scale and toWorld_rowmajor). --environment-scale multiplies the scale;
 --environment-rotation turns the map about +Y after its own frame, as penumbra's option does.
+Each --portal (penumbra's form: a corner and its two neighbouring corners, nine numbers in the
+glTF file's frame, as `penumbra info` prints the openings it finds) becomes a Cycles portal: a
+rectangular area light marked as a portal, facing the camera's side of its plane (Cycles samples
+the world through portals it is given; the peer harness gives it none).
 
 The map is looked up in penumbra's orientation (docs/lights.md): for a world direction d (glTF
 axes, +Y up) and d' = R^T d in the map's frame, u = atan2(d'.x, -d'.z) / 2 pi and v = acos(d'.y)
@@ -44,6 +48,8 @@ def parse_own_args():
     ap.add_argument("--environment-scale", type=float, default=1.0)
     ap.add_argument("--environment-rotation", type=float, default=0.0,
                     help="degrees about +Y, counter-clockwise seen from above")
+    ap.add_argument("--portal", action="append", default=[],
+                    help="x0,y0,z0,x1,y1,z1,x2,y2,z2: a corner and its two neighbours (glTF)")
     own, rest = ap.parse_known_args(argv)
     scene = rest[rest.index("--scene") + 1] if "--scene" in rest else None
     return own, rest, scene
@@ -116,6 +122,37 @@ def environment_world(path, scale, to_world):
     return world
 
 
+def to_blender(p):
+    """A glTF point in Blender's frame."""
+    return (p[0], -p[2], p[1])
+
+
+def add_portal(scene, spec, index):
+    """A Cycles portal light over penumbra's portal `spec`, facing the camera."""
+    from mathutils import Matrix, Vector
+    v = [float(x) for x in spec.split(",")]
+    if len(v) != 9:
+        raise SystemExit("cycles_environment.py: --portal %s: expected nine numbers" % spec)
+    p0, p1, p2 = (Vector(to_blender(v[i:i + 3])) for i in (0, 3, 6))
+    u, w = p1 - p0, p2 - p0
+    centre = p0 + 0.5 * (u + w)
+    z = u.cross(w).normalized()
+    # An area light shines along its -Z: towards the camera, inside the room.
+    if z.dot(scene.camera.matrix_world.translation - centre) > 0.0:
+        z = -z
+    x = u.normalized()
+    y = z.cross(x)
+    light = bpy.data.lights.new("penumbra portal %d" % index, type="AREA")
+    light.shape = "RECTANGLE"
+    light.size, light.size_y = u.length, w.length
+    light.cycles.is_portal = True
+    portal = bpy.data.objects.new(light.name, light)
+    frame = Matrix((x, y, z)).transposed().to_4x4()
+    frame.translation = centre
+    portal.matrix_world = frame
+    scene.collection.objects.link(portal)
+
+
 def main():
     own, rest, gltf = parse_own_args()
     if own.environment:
@@ -132,9 +169,11 @@ def main():
                                                        [[round(x, 6) for x in r] for r in to_world]))
 
     # The harness clears the scene and blacks its world, imports, sets the render up, then
-    # renders: the world is swapped in as the render begins.
+    # renders: the world is swapped in, and the portals added, as the render begins.
     def use_environment(scene, *_):
         scene.world = world
+        for index, spec in enumerate(own.portal):
+            add_portal(scene, spec, index)
 
     bpy.app.handlers.render_init.append(use_environment)
     harness = os.path.join(own.peers, "cycles_render.py")
