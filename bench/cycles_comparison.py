@@ -91,6 +91,11 @@ def size(a):
     return "%dpx" % a.width if a.width == a.height else "%dx%d" % (a.width, a.height)
 
 
+def environment_args(a):
+    """penumbra's option for a map given as a file (the scene's own map needs none)."""
+    return ["--environment", a.environment] if a.environment not in (None, "scene") else []
+
+
 def run(cmd):
     print("$ " + " ".join(cmd), flush=True)
     return subprocess.run(cmd, check=True, capture_output=True, text=True)
@@ -100,9 +105,7 @@ def run_penumbra(a, out, pipeline, seed, spp=None, time_limit=None):
     """Renders with penumbra; spp and seconds are those the EXR records."""
     cmd = [a.penumbra, "render", a.scene, "-o", out, "--pipeline", pipeline,
            "--width", str(a.width), "--height", str(a.height), "--seed", str(seed),
-           "--threads", str(a.threads)]
-    if a.environment not in (None, "scene"):
-        cmd += ["--environment", a.environment]
+           "--threads", str(a.threads)] + environment_args(a)
     if time_limit is not None:
         cmd += ["--time-limit", str(time_limit), "--spp", "1000000"]
     else:
@@ -120,8 +123,7 @@ def run_cycles(a, out, spp, seed):
     else:
         script = [os.path.join(os.path.dirname(os.path.abspath(__file__)),
                                "cycles_environment.py"), "--", "--peers", a.peers]
-        if a.environment != "scene":
-            script += ["--environment", a.environment]
+        script += environment_args(a)
         for portal in a.portals:
             script += ["--portal", portal]
     cmd = [a.blender, "-b", "--factory-startup", "-P"] + script + [
@@ -137,9 +139,7 @@ def run_cycles(a, out, spp, seed):
 def found_portals(a):
     """The openings penumbra finds as portals for the scene (`penumbra info`), in the form of
     its --portal option."""
-    cmd = [a.penumbra, "info", a.scene]
-    if a.environment not in (None, "scene"):
-        cmd += ["--environment", a.environment]
+    cmd = [a.penumbra, "info", a.scene] + environment_args(a)
     portals = re.findall(r"^\s+--portal (\S+)", run(cmd).stderr, re.MULTILINE)
     print("portals given to Cycles: %s" % (" ".join(portals) or "none found"), flush=True)
     return portals

@@ -36,6 +36,7 @@ import os
 import sys
 
 import bpy
+from mathutils import Matrix, Vector
 
 
 def parse_own_args():
@@ -129,7 +130,6 @@ def to_blender(p):
 
 def add_portal(scene, spec, index):
     """A Cycles portal light over penumbra's portal `spec`, facing the camera."""
-    from mathutils import Matrix, Vector
     v = [float(x) for x in spec.split(",")]
     if len(v) != 9:
         raise SystemExit("cycles_environment.py: --portal %s: expected nine numbers" % spec)

@@ -9,11 +9,12 @@ Not a test and not part of the build: a benchmark helper. Usage:
 Each material keeps its base colour (factor and texture) and its emission; it loses its metallic
 and specular reflection (metallicFactor 0, roughnessFactor 1, KHR_materials_specular
 specularFactor 0: pure Lambertian, docs/light-paths.md), its transmission, volume and index of
-refraction, and its alpha mask (made opaque; a masked base colour texture is replaced by mid grey,
-since Cycles' image node with its alpha unused premultiplies the colour by alpha). Why: Blender 3.4's Principled BSDF (which the peer
-harness keeps for rough dielectrics) adds its specular layer on top of an undiminished diffuse
-one, where glTF's dielectric takes the diffuse light the Fresnel term leaves; and the harness's
-conversion to a Diffuse closure drops alpha masks. With only Lambertian materials both renderers
+refraction, and its alpha mask (made opaque; a masked base colour texture is replaced by mid
+grey, since Cycles' image node with its alpha unused premultiplies the colour by alpha). Why:
+Blender 3.4's Principled BSDF (which the peer harness keeps for rough dielectrics) adds its
+specular layer on top of an undiminished diffuse one, where glTF's dielectric takes the diffuse
+light the Fresnel term leaves; and the harness's conversion to a Diffuse closure drops alpha
+masks. With only Lambertian materials both renderers
 compute the same integral, so a difference is the lights', the geometry's or the textures'.
 
 The copy's buffers, images and the environment recorded in `scenes[0].extras` point back to the
