@@ -77,6 +77,7 @@ def main():
     if "extensionsRequired" in document:
         document["extensionsRequired"] = [e for e in document["extensionsRequired"]
                                           if e not in DROPPED_EXTENSIONS]
+    os.makedirs(os.path.dirname(os.path.abspath(out)), exist_ok=True)
     with open(out, "w") as f:
         json.dump(document, f)
     print("%s: %d materials made Lambertian" % (out, len(document.get("materials", []))))
