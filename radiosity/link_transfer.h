@@ -103,7 +103,8 @@ class LinkTransfer {
     // The form factor F over the exposed part of a partly covered receiver.
     float exposedFormFactor(int receiver, int source, float F) const;
     // `softRadius` (metres) widens the radius under which a close pair is linked with a
-    // softened distance rather than left unlinkable (a hurried solve: LinkRefiner's coarse mode).
+    // softened distance rather than left unlinkable, and when positive so is every pair with an
+    // element end that cannot be split (a hurried solve: LinkRefiner's coarse mode).
     ClusterKernel clusterKernel(int receiver, int source, float softRadius = 0.0f) const;
 
   private:

@@ -182,5 +182,69 @@ TEST(ClusterKernel, ASliverLinksToTheClustersBesideIt) {
     EXPECT_GE(leaves, 200 / ClusterTree::kLeafPatches);
 }
 
+TEST(ClusterKernel, HurriedAPatchThatCannotBeSplitLinksToTheClustersItTouches) {
+    // A hurried solve (LinkRefiner's coarse mode, a soft radius) that split every cluster touching
+    // a patch it cannot split went down to the patches about it: the grey-white room's oracle went
+    // on 17 levels past its deadline and made 3.9 M links to evaluate. Here tiles of 2 x 2 cm
+    // lying against a strip 1.9 m long and 1 mm high, all of it a patch that cannot be split: the
+    // tiles' leaf clusters touch it. Without a soft radius they may not be linked with it; with
+    // one, however small, they are (softened kernel); a tile that can still be split and a
+    // cluster touching it are not, as before.
+    GltfBuilder builder;
+    const int grey = builder.addMaterial({.baseColor = Color(0.5f)});
+    for (int i = 0; i < 10; ++i) {
+        const float x = -0.25f + 0.05f * static_cast<float>(i);
+        builder.addQuad({x, 0.0f, 0.0f}, {x, 0.0f, 0.02f}, {x + 0.02f, 0.0f, 0.02f},
+                        {x + 0.02f, 0.0f, 0.0f}, grey);
+    }
+    builder.addQuad({-0.95f, 0.0f, 0.0f}, {0.95f, 0.0f, 0.0f}, {0.95f, 0.001f, 0.0f},
+                    {-0.95f, 0.001f, 0.0f}, grey);
+    const auto scene = loadBuiltScene(builder, "cluster-kernel-hurried-sliver");
+    RadiositySettings settings;
+    settings.patchEdgeLength = 4.0f;   // no triangle is cut into patches
+    settings.minElementArea = 0.001f;  // the strip's halves (9.5e-4 m²) cannot be split
+    const RadiosityMesh mesh(*scene, settings.meshing(*scene));
+    const ElementExposure exposure(*scene, mesh);
+    const ClusterTree tree(mesh);
+    const LinkTransfer transfer(*scene, mesh, exposure, &tree, settings);
+    const float soft = 1e-4f;  // far under every node's radius
+    int touching = 0;
+    for (size_t p = 0; p < mesh.patchCount(); ++p) {
+        const int strip = static_cast<int>(p);
+        if (!(mesh.area(strip) > 5e-4))
+            continue;
+        ASSERT_FALSE(mesh.canSplit(strip));
+        for (size_t c = 0; c < tree.size(); ++c) {
+            const int cluster = clusterNode(static_cast<int>(c));
+            if (!(transfer.nodeRadius(cluster) > 0.0f) ||
+                transfer.clusterKernel(cluster, node(strip, true)).linkable)
+                continue;  // only the clusters that touch the strip
+            ++touching;
+            for (const bool side : {true, false}) {
+                EXPECT_TRUE(transfer.clusterKernel(cluster, node(strip, side), soft).linkable)
+                    << "cluster " << c << " from the strip's patch " << p;
+                EXPECT_TRUE(transfer.clusterKernel(node(strip, side), cluster, soft).linkable)
+                    << "the strip's patch " << p << " from cluster " << c;
+            }
+        }
+    }
+    EXPECT_GT(touching, 0);
+    // With a smaller least area every patch can be split: the root cluster, which holds them
+    // all, may not be linked with any of them, hurried or not.
+    RadiositySettings fine = settings;
+    fine.minElementArea = 1e-5f;
+    const RadiosityMesh fineMesh(*scene, fine.meshing(*scene));
+    const ElementExposure fineExposure(*scene, fineMesh);
+    const ClusterTree fineTree(fineMesh);
+    const LinkTransfer fineTransfer(*scene, fineMesh, fineExposure, &fineTree, fine);
+    for (size_t p = 0; p < fineMesh.patchCount(); ++p) {
+        ASSERT_TRUE(fineMesh.canSplit(static_cast<int>(p)));
+        EXPECT_FALSE(
+            fineTransfer.clusterKernel(clusterNode(0), node(static_cast<int>(p), true), soft)
+                .linkable)
+            << "the root cluster from patch " << p;
+    }
+}
+
 }  // namespace
 }  // namespace penumbra::test
