@@ -205,8 +205,8 @@ class RadiositySolver : public RadiositySolution {
   private:
     void resizeArrays();
     // The final gather's passes (final_gather.h), each a stage of rays, one per leaf, then its
-    // gather sweeps.
-    void finalGather();
+    // gather sweeps; with a deadline, no pass that would end past it (as long as the last).
+    void finalGather(LinkRefiner::Deadline deadline);
     // The sources' direct light at the leaves' corners, on a mesh refined for it (shown_direct.h;
     // RadiositySettings::directAtCorners).
     void showDirectAtCorners();
