@@ -121,6 +121,48 @@ TEST(ClusteredRoom, RefinementRoundsEnd) {
     EXPECT_LT(rounds, settings.maxRefinements);
 }
 
+// The sliver tests' scene: a grey strip 1.9 m long and 1 mm high, along x at z = 0, and tiles of
+// 2 x 2 cm facing up on a 5-cm pitch, 10 columns from x = -0.25, `rows` rows from z0.
+std::unique_ptr<Scene> tilesBesideAStrip(int rows, float z0, const std::string& name) {
+    GltfBuilder builder;
+    const int grey = builder.addMaterial({.baseColor = Color(0.5f)});
+    for (int i = 0; i < 10; ++i) {
+        for (int j = 0; j < rows; ++j) {
+            const float x = -0.25f + 0.05f * static_cast<float>(i),
+                        z = z0 + 0.05f * static_cast<float>(j);
+            builder.addQuad({x, 0.0f, z}, {x, 0.0f, z + 0.02f}, {x + 0.02f, 0.0f, z + 0.02f},
+                            {x + 0.02f, 0.0f, z}, grey);
+        }
+    }
+    builder.addQuad({-0.95f, 0.0f, 0.0f}, {0.95f, 0.0f, 0.0f}, {0.95f, 0.001f, 0.0f},
+                    {-0.95f, 0.001f, 0.0f}, grey);
+    return loadBuiltScene(builder, name);
+}
+
+// The sliver tests' settings: no triangle is cut into patches, and at the least element area
+// 0.001 m² the strip's halves (9.5e-4 m²) cannot be split.
+RadiositySettings stripSettings() {
+    RadiositySettings settings;
+    settings.patchEdgeLength = 4.0f;
+    settings.minElementArea = 0.001f;
+    return settings;
+}
+
+// A scene's mesh, exposure, clusters and link transfer, as the solver makes them.
+struct TransferParts {
+    TransferParts(const Scene& scene, const RadiositySettings& s)
+        : settings(s),
+          mesh(scene, settings.meshing(scene)),
+          exposure(scene, mesh),
+          tree(mesh),
+          transfer(scene, mesh, exposure, &tree, settings) {}
+    RadiositySettings settings;
+    RadiosityMesh mesh;
+    ElementExposure exposure;
+    ClusterTree tree;
+    LinkTransfer transfer;
+};
+
 TEST(ClusterKernel, ASliverLinksToTheClustersBesideIt) {
     // A sliver's bounding sphere holds everything within half its length of its middle, and it
     // cannot be split: judged by that sphere, every cluster near it overlapped it and was refined
@@ -128,26 +170,11 @@ TEST(ClusterKernel, ASliverLinksToTheClustersBesideIt) {
     // evaluate instead of 11 M). Here a strip 1.9 m long and 1 mm high, and 100 tiles of 2 x 2
     // cm, 10 to 57 cm from it, all inside its halves' spheres: judged by the distance of its
     // triangles, every leaf cluster of tiles may be linked with it, in both directions.
-    GltfBuilder builder;
-    const int grey = builder.addMaterial({.baseColor = Color(0.5f)});
-    for (int i = 0; i < 10; ++i) {
-        for (int j = 0; j < 10; ++j) {
-            const float x = -0.25f + 0.05f * static_cast<float>(i),
-                        z = 0.1f + 0.05f * static_cast<float>(j);
-            builder.addQuad({x, 0.0f, z}, {x, 0.0f, z + 0.02f}, {x + 0.02f, 0.0f, z + 0.02f},
-                            {x + 0.02f, 0.0f, z}, grey);
-        }
-    }
-    builder.addQuad({-0.95f, 0.0f, 0.0f}, {0.95f, 0.0f, 0.0f}, {0.95f, 0.001f, 0.0f},
-                    {-0.95f, 0.001f, 0.0f}, grey);
-    const auto scene = loadBuiltScene(builder, "cluster-kernel-sliver");
-    RadiositySettings settings;
-    settings.patchEdgeLength = 4.0f;   // no triangle is cut into patches
-    settings.minElementArea = 0.001f;  // the strip's halves (9.5e-4 m²) cannot be split
-    const RadiosityMesh mesh(*scene, settings.meshing(*scene));
-    const ElementExposure exposure(*scene, mesh);
-    const ClusterTree tree(mesh);
-    const LinkTransfer transfer(*scene, mesh, exposure, &tree, settings);
+    const auto scene = tilesBesideAStrip(10, 0.1f, "cluster-kernel-sliver");
+    const TransferParts parts(*scene, stripSettings());
+    const RadiosityMesh& mesh = parts.mesh;
+    const ClusterTree& tree = parts.tree;
+    const LinkTransfer& transfer = parts.transfer;
     std::vector<int> strip;
     for (size_t p = 0; p < mesh.patchCount(); ++p) {
         if (mesh.area(static_cast<int>(p)) > 5e-4)
@@ -190,40 +217,25 @@ TEST(ClusterKernel, HurriedAPatchThatCannotBeSplitLinksToTheClustersItTouches) {
     // tiles' leaf clusters touch it. Without a soft radius they may not be linked with it; with
     // one, however small, they are (softened kernel); a tile that can still be split and a
     // cluster touching it are not, as before.
-    GltfBuilder builder;
-    const int grey = builder.addMaterial({.baseColor = Color(0.5f)});
-    for (int i = 0; i < 10; ++i) {
-        const float x = -0.25f + 0.05f * static_cast<float>(i);
-        builder.addQuad({x, 0.0f, 0.0f}, {x, 0.0f, 0.02f}, {x + 0.02f, 0.0f, 0.02f},
-                        {x + 0.02f, 0.0f, 0.0f}, grey);
-    }
-    builder.addQuad({-0.95f, 0.0f, 0.0f}, {0.95f, 0.0f, 0.0f}, {0.95f, 0.001f, 0.0f},
-                    {-0.95f, 0.001f, 0.0f}, grey);
-    const auto scene = loadBuiltScene(builder, "cluster-kernel-hurried-sliver");
-    RadiositySettings settings;
-    settings.patchEdgeLength = 4.0f;   // no triangle is cut into patches
-    settings.minElementArea = 0.001f;  // the strip's halves (9.5e-4 m²) cannot be split
-    const RadiosityMesh mesh(*scene, settings.meshing(*scene));
-    const ElementExposure exposure(*scene, mesh);
-    const ClusterTree tree(mesh);
-    const LinkTransfer transfer(*scene, mesh, exposure, &tree, settings);
+    const auto scene = tilesBesideAStrip(1, 0.0f, "cluster-kernel-hurried-sliver");
+    const TransferParts parts(*scene, stripSettings());
     const float soft = 1e-4f;  // far under every node's radius
     int touching = 0;
-    for (size_t p = 0; p < mesh.patchCount(); ++p) {
+    for (size_t p = 0; p < parts.mesh.patchCount(); ++p) {
         const int strip = static_cast<int>(p);
-        if (!(mesh.area(strip) > 5e-4))
+        if (!(parts.mesh.area(strip) > 5e-4))
             continue;
-        ASSERT_FALSE(mesh.canSplit(strip));
-        for (size_t c = 0; c < tree.size(); ++c) {
+        ASSERT_FALSE(parts.mesh.canSplit(strip));
+        for (size_t c = 0; c < parts.tree.size(); ++c) {
             const int cluster = clusterNode(static_cast<int>(c));
-            if (!(transfer.nodeRadius(cluster) > 0.0f) ||
-                transfer.clusterKernel(cluster, node(strip, true)).linkable)
+            if (!(parts.transfer.nodeRadius(cluster) > 0.0f) ||
+                parts.transfer.clusterKernel(cluster, node(strip, true)).linkable)
                 continue;  // only the clusters that touch the strip
             ++touching;
             for (const bool side : {true, false}) {
-                EXPECT_TRUE(transfer.clusterKernel(cluster, node(strip, side), soft).linkable)
+                EXPECT_TRUE(parts.transfer.clusterKernel(cluster, node(strip, side), soft).linkable)
                     << "cluster " << c << " from the strip's patch " << p;
-                EXPECT_TRUE(transfer.clusterKernel(node(strip, side), cluster, soft).linkable)
+                EXPECT_TRUE(parts.transfer.clusterKernel(node(strip, side), cluster, soft).linkable)
                     << "the strip's patch " << p << " from cluster " << c;
             }
         }
@@ -231,16 +243,13 @@ TEST(ClusterKernel, HurriedAPatchThatCannotBeSplitLinksToTheClustersItTouches) {
     EXPECT_GT(touching, 0);
     // With a smaller least area every patch can be split: the root cluster, which holds them
     // all, may not be linked with any of them, hurried or not.
-    RadiositySettings fine = settings;
-    fine.minElementArea = 1e-5f;
-    const RadiosityMesh fineMesh(*scene, fine.meshing(*scene));
-    const ElementExposure fineExposure(*scene, fineMesh);
-    const ClusterTree fineTree(fineMesh);
-    const LinkTransfer fineTransfer(*scene, fineMesh, fineExposure, &fineTree, fine);
-    for (size_t p = 0; p < fineMesh.patchCount(); ++p) {
-        ASSERT_TRUE(fineMesh.canSplit(static_cast<int>(p)));
+    RadiositySettings fineSettings = stripSettings();
+    fineSettings.minElementArea = 1e-5f;
+    const TransferParts fine(*scene, fineSettings);
+    for (size_t p = 0; p < fine.mesh.patchCount(); ++p) {
+        ASSERT_TRUE(fine.mesh.canSplit(static_cast<int>(p)));
         EXPECT_FALSE(
-            fineTransfer.clusterKernel(clusterNode(0), node(static_cast<int>(p), true), soft)
+            fine.transfer.clusterKernel(clusterNode(0), node(static_cast<int>(p), true), soft)
                 .linkable)
             << "the root cluster from patch " << p;
     }
