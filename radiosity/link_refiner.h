@@ -62,11 +62,10 @@ class LinkRefiner {
     // used its share of the time it had left (oracleTooLong): Coarsen links every pair it still
     // examines as it stands (the oracle allows any error from then on; close nodes under a radius,
     // and a cluster with an element that cannot be split, are linked with a softened kernel, and a
-    // small cluster's pairs within itself are left out), a
-    // coarser solution at the price of the links it has decided; Abandon, during the initial
-    // linking, stops and makes no more links (abandoned()), for a caller that can do without the
-    // solution, also as soon as the rate of the links' evaluation says they will not all be made by
-    // the deadline.
+    // small cluster's pairs within itself are left out), a coarser solution at the price of the
+    // links it has decided; Abandon, during the initial linking, stops and makes no more links
+    // (abandoned()), for a caller that can do without the solution, also as soon as the rate of
+    // the links' evaluation says they will not all be made by the deadline.
     enum class OnTimeUp { Coarsen, Abandon };
     void setTimeLimit(Deadline deadline, OnTimeUp onTimeUp);
     bool abandoned() const { return abandoned_; }
