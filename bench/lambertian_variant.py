@@ -14,8 +14,8 @@ grey, since Cycles' image node with its alpha unused premultiplies the colour by
 Blender 3.4's Principled BSDF (which the peer harness keeps for rough dielectrics) adds its
 specular layer on top of an undiminished diffuse one, where glTF's dielectric takes the diffuse
 light the Fresnel term leaves; and the harness's conversion to a Diffuse closure drops alpha
-masks. With only Lambertian materials both renderers
-compute the same integral, so a difference is the lights', the geometry's or the textures'.
+masks. With only Lambertian materials both renderers compute the same integral, so a difference
+is the lights', the geometry's or the textures'.
 
 The copy's buffers, images and the environment recorded in `scenes[0].extras` point back to the
 original files by relative paths, so it can be written anywhere on the same file system.

@@ -104,10 +104,6 @@ bool LinkRefiner::exceedsThreshold(int receiver, int source, const LinkErrors& e
     return false;
 }
 
-bool LinkRefiner::subdivisible(int e) const {
-    return !mesh_.isLeaf(e) || mesh_.canSplit(e);
-}
-
 // The first of e's four children, splitting e first if it is a leaf. New children start from the
 // parent's radiance and direct light until the next sweep and finishSplits() replace them.
 int LinkRefiner::children(int e) {
@@ -218,7 +214,7 @@ void LinkRefiner::refineSlice(std::span<const RefinePair> batch, std::vector<Ref
             continue;
         const KernelSamples& k = samples[i];
         const int er = element(p.receiver), es = element(p.source);
-        const bool canR = subdivisible(er), canS = subdivisible(es);
+        const bool canR = mesh_.subdivisible(er), canS = mesh_.subdivisible(es);
         const LinkErrors errors =
             linkErrors(p.source, p.spread >= 0.0f ? p.spread : k.spread(1.0f), k.max());
         if (!exceedsThreshold(p.receiver, p.source, errors) || !(canR || canS)) {
@@ -458,7 +454,7 @@ void LinkRefiner::linkPatches(const std::string& step, float epsilonScale) {
 }
 
 bool LinkRefiner::canSplitNode(int n) const {
-    return isCluster(n) || subdivisible(element(n));
+    return isCluster(n) || mesh_.subdivisible(element(n));
 }
 
 // The nodes one level below: a cluster's two child clusters, or both sides of each patch of a

@@ -95,7 +95,6 @@ class LinkRefiner {
     double secondsFormFactors() const { return secondsLinks_; }
 
   private:
-    bool subdivisible(int element) const;
     // The first of the element's four children, splitting it first if it is a leaf.
     int children(int element);
     void finishSplits();

@@ -537,7 +537,7 @@ ClusterKernel LinkTransfer::clusterKernel(int receiver, int source, float softRa
     // centres stays an estimate of the whole element's; one that cannot has under four times the
     // smallest element's area, so the transfer that estimate may miss is small.
     const auto unsplittable = [&](int n) {
-        return !isCluster(n) && mesh_.isLeaf(element(n)) && !mesh_.canSplit(element(n));
+        return !isCluster(n) && !mesh_.subdivisible(element(n));
     };
     const auto nearest = [&](int elementNode, const Vec3& centre, float radius) {
         const std::array<Vec3, 3> t = mesh_.corners(element(elementNode));

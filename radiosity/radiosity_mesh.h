@@ -135,6 +135,8 @@ class RadiosityMesh {
     bool canSplit(int element, float minChildArea) const {
         return isLeaf(element) && area(element) * 0.25f >= minChildArea;
     }
+    // Whether the element has children or may be given some (canSplit).
+    bool subdivisible(int element) const { return !isLeaf(element) || canSplit(element); }
     // Splits a leaf 1:4 at its edge midpoints and returns the id of its first child. A midpoint
     // is shared with the neighbouring element across that edge (it exists already if the
     // neighbour was split first). Children inherit the parent's normal, get exactly a quarter of
