@@ -178,6 +178,11 @@ Command addBakeCommand(CLI::App& app) {
     command->add_option("--min-element-area", r.minElementArea,
                         "Smallest element in m² (default 0: total surface area / 16384)");
     command
+        ->add_flag("--contact-lines", r.contactLines,
+                   "Cut the surfaces along the lines where others stand on them (a block on a "
+                   "floor) before meshing, so that no element straddles one")
+        ->capture_default_str();
+    command
         ->add_flag("!--no-direct-at-corners", r.directAtCorners,
                    "Show the lights' direct light as the element means, not as evaluated at the "
                    "corners of elements refined until it is right")

@@ -60,7 +60,7 @@ void IndirectAtCorners::gather(const Solution& solution, SolveProgress* progress
         rays += count;
     });
     fillCovered(solution, leaves, states);
-    corners_.anchorTVertices(mesh_);
+    corners_.anchorTVertices(mesh_, solution.exposed);
     for (const int e : leaves)
         for (const bool front : {true, false})
             means_[static_cast<size_t>(e)][front ? 0 : 1] = solution.fallback(e, front);

@@ -15,7 +15,7 @@ bool coplanar(const RadiosityMesh& mesh, int a, int b) {
 
 }  // namespace
 
-void LeafCornerValues::anchorTVertices(const RadiosityMesh& mesh) {
+void LeafCornerValues::anchorTVertices(const RadiosityMesh& mesh, const SideShows& shows) {
     std::vector<int> leaves = mesh.leafElements();
     std::unordered_multimap<uint32_t, std::pair<int, size_t>> cornersAt;  // vertex -> (leaf, k)
     for (const int e : leaves)
@@ -41,6 +41,8 @@ void LeafCornerValues::anchorTVertices(const RadiosityMesh& mesh) {
             const Vec3 a = mesh.position(v[edge]), b = mesh.position(v[(edge + 1) % 3]);
             const float s = glm::dot(mesh.position(t) - a, b - a) / glm::dot(b - a, b - a);
             for (const bool front : {true, false}) {
+                if (!shows(e, front))
+                    continue;
                 const Color value =
                     (1.0f - s) * at(e, front, edge) + s * at(e, front, (edge + 1) % 3);
                 const auto [first, last] = cornersAt.equal_range(t);

@@ -9,6 +9,7 @@
 #include "radiosity/radiosity_mesh.h"
 
 #include <array>
+#include <functional>
 #include <vector>
 
 namespace penumbra {
@@ -41,8 +42,11 @@ class LeafCornerValues {
     // sets it on both sides to the coarser leaf's interpolation along that edge, coarse leaves
     // first, so that the field is continuous across the edge (Baum, Mann, Smith and Winget 1991's
     // anchoring, as RadiosityMesh::setElementValues does for the vertex values): no crack in the
-    // view, and the bake's fan of the coarse leaf shows the same values.
-    void anchorTVertices(const RadiosityMesh& mesh);
+    // view, and the bake's fan of the coarse leaf shows the same values. A coarse leaf's side
+    // that `shows` says nobody sees (covered: a piece of floor under a block, cut off along the
+    // block's foot by the contact lines) anchors nothing on that side: its values are stand-ins.
+    using SideShows = std::function<bool(int leaf, bool front)>;
+    void anchorTVertices(const RadiosityMesh& mesh, const SideShows& shows);
 
   private:
     std::vector<std::array<Color, 6>> values_;  // per element: [front c0, c1, c2, back c0, c1, c2]

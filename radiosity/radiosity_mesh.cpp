@@ -17,7 +17,9 @@
 #include "radiosity/radiosity_mesh.h"
 
 #include "core/scene.h"
+#include "radiosity/contact_lines.h"
 #include "radiosity/quiet_openmesh_errors.h"
+#include "radiosity/triangle_pieces.h"
 
 #include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
 
@@ -46,6 +48,9 @@ bool rhoVaries(const Material& m) {
     return m.baseColorTexture.valid() || m.metallicRoughnessTexture.valid() ||
            m.specularTexture.valid() || m.specularColorTexture.valid();
 }
+
+// Pieces of a cut triangle smaller than this fraction of it are left out.
+constexpr double kLeastPieceFraction = 1e-9;
 
 bool emissionVaries(const Material& m) {
     return m.isEmissive() && m.emissiveTexture.valid();
@@ -160,13 +165,17 @@ RadiosityMesh::RadiosityMesh(const Scene& scene, const MeshingSettings& settings
     patchEdgeLength_ = settings.patchEdgeLength;
     minElementArea_ = settings.minElementArea;
 
-    // One face per scene triangle, sharing the scene mesh's vertices where the polygon mesh stays
-    // manifold. A triangle OpenMesh refuses (a third face on an edge, a face whose winding
-    // disagrees with a neighbour's, a vertex joining two closed fans) gets vertices of its own.
+    // One face per scene triangle (or per piece of a triangle cut along its contact lines),
+    // sharing the scene mesh's vertices where the polygon mesh stays manifold. A face OpenMesh
+    // refuses (a third face on an edge, a face whose winding disagrees with a neighbour's, a
+    // vertex joining two closed fans) gets vertices of its own.
     struct Root {
         uint32_t mesh, triangle;
         FaceHandle face;
         std::array<VertexHandle, 3> corners;
+        // The corners' barycentric coordinates in the scene triangle.
+        std::array<Vec3, 3> barycentric = {Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1)};
+        int piece = -1;  // index into pieces_, -1 for a whole triangle
         int level = 0;
         double area;
         Vec3 normal;
@@ -175,7 +184,34 @@ RadiosityMesh::RadiosityMesh(const Scene& scene, const MeshingSettings& settings
     const std::span<const Mesh> meshes = scene.meshes();
     triangles_.resize(meshes.size());
     impl_->materials.resize(scene.materials().size());
+    std::optional<ContactLines> contacts;
+    if (settings.contactLines) {
+        if (!(minElementArea_ > 0.0f))
+            throw std::invalid_argument("radiosity mesh: contactLines needs minElementArea > 0");
+        contacts.emplace(scene, 16.0f * minElementArea_, std::sqrt(minElementArea_));
+    }
+    // Contact features finer than an eighth of the smallest element's side are joined.
+    const float contactResolution = 0.125f * std::sqrt(minElementArea_);
     uint64_t patchTotal = 0;
+    const auto addRoot = [&](Root root, const std::array<Vec3, 3>& p) {
+        {
+            const QuietOpenMeshErrors quiet;
+            root.face = impl_->mesh.add_face(root.corners[0], root.corners[1], root.corners[2]);
+        }
+        if (!root.face.is_valid()) {
+            for (int c = 0; c < 3; ++c)
+                root.corners[c] = impl_->addVertex(p[c]);
+            root.face = impl_->mesh.add_face(root.corners[0], root.corners[1], root.corners[2]);
+        }
+        // n = 2^level patches along each edge, the smallest power of two that brings the
+        // longest edge down to patchEdgeLength.
+        const float longest = std::max(
+            {glm::length(p[1] - p[0]), glm::length(p[2] - p[1]), glm::length(p[0] - p[2])});
+        while (root.level < 30 && longest > patchEdgeLength_ * float(1 << root.level))
+            ++root.level;
+        patchTotal += uint64_t(1) << (2 * root.level);
+        roots.push_back(root);
+    };
     for (uint32_t mi = 0; mi < meshes.size(); ++mi) {
         const Mesh& mesh = meshes[mi];
         const Material& material = scene.materials()[mesh.material];
@@ -200,29 +236,56 @@ RadiosityMesh::RadiosityMesh(const Scene& scene, const MeshingSettings& settings
             root.triangle = t;
             root.area = area;
             root.normal = Vec3(glm::normalize(cross));
+            std::array<VertexHandle, 3> corners;
             for (int c = 0; c < 3; ++c) {
                 int& v = shared[index[c]];
                 if (v < 0)
                     v = impl_->addVertex(p[c]).idx();
-                root.corners[c] = VertexHandle(v);
+                corners[c] = VertexHandle(v);
             }
-            {
-                const QuietOpenMeshErrors quiet;
-                root.face = impl_->mesh.add_face(root.corners[0], root.corners[1], root.corners[2]);
+            const std::span<const TriangleSegment> segments =
+                contacts ? contacts->on(mi, t) : std::span<const TriangleSegment>{};
+            const TrianglePieces cut = cutTriangle(p, segments, contactResolution);
+            if (cut.pieces.size() == 1) {
+                root.corners = corners;
+                addRoot(root, p);
+                continue;
             }
-            if (!root.face.is_valid()) {
-                for (int c = 0; c < 3; ++c)
-                    root.corners[c] = impl_->addVertex(p[c]);
-                root.face = impl_->mesh.add_face(root.corners[0], root.corners[1], root.corners[2]);
+            // The pieces share their vertices; the triangle's own corners are the scene's.
+            const auto at = [&](const Vec3& b) { return b.x * p[0] + b.y * p[1] + b.z * p[2]; };
+            std::vector<VertexHandle> points(cut.points.size());
+            for (size_t i = 0; i < points.size(); ++i)
+                points[i] = i < 3 ? corners[i] : impl_->addVertex(at(cut.points[i]));
+            TrianglePatches& info = triangles_[mi][t];
+            info.firstPiece = int(pieces_.size());
+            info.pieceCount = 0;
+            for (const std::array<uint32_t, 3>& piece : cut.pieces) {
+                Root part = root;
+                std::array<Vec3, 3> q;
+                for (int c = 0; c < 3; ++c) {
+                    part.corners[c] = points[piece[c]];
+                    part.barycentric[c] = cut.points[piece[c]];
+                    q[c] = at(part.barycentric[c]);
+                }
+                part.area =
+                    0.5 * glm::length(glm::cross(glm::dvec3(q[1] - q[0]), glm::dvec3(q[2] - q[0])));
+                Piece entry;
+                entry.corners = part.barycentric;
+                const Vec2 c0(part.barycentric[0].y, part.barycentric[0].z);
+                const glm::mat2 edges(Vec2(part.barycentric[1].y, part.barycentric[1].z) - c0,
+                                      Vec2(part.barycentric[2].y, part.barycentric[2].z) - c0);
+                // A piece that float barycentrics flatten (features a rounding error apart that
+                // cutTriangle did not join) is left out: locate() gives its points to the piece
+                // beside.
+                if (!(part.area > kLeastPieceFraction * area) ||
+                    !(std::abs(glm::determinant(edges)) > 0.0f))
+                    continue;
+                entry.toPiece = glm::inverse(edges);
+                part.piece = int(pieces_.size());
+                pieces_.push_back(entry);
+                ++info.pieceCount;
+                addRoot(part, q);
             }
-            // n = 2^level patches along each edge, the smallest power of two that brings the
-            // longest edge down to patchEdgeLength.
-            const float longest = std::max(
-                {glm::length(p[1] - p[0]), glm::length(p[2] - p[1]), glm::length(p[0] - p[2])});
-            while (root.level < 30 && longest > patchEdgeLength_ * float(1 << root.level))
-                ++root.level;
-            patchTotal += uint64_t(1) << (2 * root.level);
-            roots.push_back(root);
         }
     }
     if (patchTotal > uint64_t(INT_MAX))
@@ -273,7 +336,8 @@ RadiosityMesh::RadiosityMesh(const Scene& scene, const MeshingSettings& settings
             }
         }
 
-        TrianglePatches& info = triangles_[root.mesh][root.triangle];
+        TrianglePatches& info = root.piece < 0 ? triangles_[root.mesh][root.triangle]
+                                               : pieces_[size_t(root.piece)].patches;
         info.firstPatch = nextPatch;
         info.level = uint8_t(root.level);
         const float invN = 1.0f / float(n);
@@ -296,8 +360,9 @@ RadiosityMesh::RadiosityMesh(const Scene& scene, const MeshingSettings& settings
                 const int k = (first + c) % 3;
                 const IVec2 l = f.lattice[k];
                 e.vertices[c] = uint32_t(f.corners[k].idx());
-                e.barycentric[c] =
-                    Vec3(float(n - l.x - l.y) * invN, float(l.x) * invN, float(l.y) * invN);
+                const Vec3 w(float(n - l.x - l.y) * invN, float(l.x) * invN, float(l.y) * invN);
+                e.barycentric[c] = w.x * root.barycentric[0] + w.y * root.barycentric[1] +
+                                   w.z * root.barycentric[2];
             }
             e.normal = root.normal;
             e.area = patchArea;
@@ -445,12 +510,33 @@ ElementPoint RadiosityMesh::locate(uint32_t mesh, uint32_t triangle, const Vec3&
         throw std::out_of_range("radiosity mesh: no triangle " + std::to_string(triangle) +
                                 " in mesh " + std::to_string(mesh));
     const TrianglePatches& info = triangles_[mesh][triangle];
+    if (info.pieceCount == 0)
+        return locateInLattice(info, b.y, b.z);
+    // A cut triangle: the piece in which the point lies deepest (on an edge between pieces,
+    // either; outside all of them by rounding, the nearest).
+    const Vec2 point(b.y, b.z);
+    const Piece* best = nullptr;
+    Vec2 bestW(0.0f);
+    float bestDepth = -INFINITY;
+    for (int i = 0; i < info.pieceCount; ++i) {
+        const Piece& piece = pieces_[size_t(info.firstPiece + i)];
+        const Vec2 w = piece.toPiece * (point - Vec2(piece.corners[0].y, piece.corners[0].z));
+        const float depth = std::min({1.0f - w.x - w.y, w.x, w.y});
+        if (depth > bestDepth) {
+            bestDepth = depth;
+            best = &piece;
+            bestW = w;
+        }
+    }
+    return locateInLattice(best->patches, bestW.x, bestW.y);
+}
+
+ElementPoint RadiosityMesh::locateInLattice(const TrianglePatches& info, float b1, float b2) const {
     if (info.firstPatch < 0)
         return {};
-
     // Clamp into the triangle (NaN counts as 0).
-    float b1 = b.y > 0.0f ? std::min(b.y, 1.0f) : 0.0f;
-    float b2 = b.z > 0.0f ? std::min(b.z, 1.0f) : 0.0f;
+    b1 = b1 > 0.0f ? std::min(b1, 1.0f) : 0.0f;
+    b2 = b2 > 0.0f ? std::min(b2, 1.0f) : 0.0f;
     if (b1 + b2 > 1.0f) {
         const float s = b1 + b2;
         b1 /= s;
@@ -487,19 +573,27 @@ ElementPoint RadiosityMesh::locate(uint32_t mesh, uint32_t triangle, const Vec3&
 }
 
 void RadiosityMesh::setElementValues(std::span<const Color> perElement,
-                                     std::span<const std::array<Color, 3>> perCorner) {
+                                     std::span<const std::array<Color, 3>> perCorner,
+                                     std::span<const float> weights) {
     if (perElement.size() != elements_.size() ||
-        (!perCorner.empty() && perCorner.size() != elements_.size()))
+        (!perCorner.empty() && perCorner.size() != elements_.size()) ||
+        (!weights.empty() && weights.size() != elements_.size()))
         throw std::invalid_argument("radiosity mesh: setElementValues got " +
-                                    std::to_string(perElement.size()) + " values and " +
-                                    std::to_string(perCorner.size()) + " corner values for " +
+                                    std::to_string(perElement.size()) + " values, " +
+                                    std::to_string(perCorner.size()) + " corner values and " +
+                                    std::to_string(weights.size()) + " weights for " +
                                     std::to_string(elements_.size()) + " elements");
     elementValues_.assign(perElement.begin(), perElement.end());
+    const auto weight = [&](size_t e) {
+        return weights.empty() ? double(elements_[e].area) : double(weights[e]);
+    };
 
-    // Nodal averaging: the area-weighted mean of the leaves around each vertex, in double so that
-    // a constant field gives the constant exactly.
+    // Nodal averaging: the weighted mean of the leaves around each vertex (the area-weighted one
+    // where they all weigh 0), in double so that a constant field gives the constant exactly.
     std::vector<glm::dvec3> sum(positions_.size(), glm::dvec3(0.0));
-    std::vector<double> weight(positions_.size(), 0.0);
+    std::vector<double> total(positions_.size(), 0.0);
+    std::vector<glm::dvec3> areaSum(positions_.size(), glm::dvec3(0.0));
+    std::vector<double> areaTotal(positions_.size(), 0.0);
     for (size_t e = 0; e < elements_.size(); ++e) {
         const Element& element = elements_[e];
         if (element.firstChild >= 0)
@@ -507,13 +601,18 @@ void RadiosityMesh::setElementValues(std::span<const Color> perElement,
         for (size_t k = 0; k < 3; ++k) {
             const uint32_t v = element.vertices[k];
             const Color value = perCorner.empty() ? perElement[e] : perElement[e] + perCorner[e][k];
-            sum[v] += double(element.area) * glm::dvec3(value);
-            weight[v] += element.area;
+            sum[v] += weight(e) * glm::dvec3(value);
+            total[v] += weight(e);
+            areaSum[v] += double(element.area) * glm::dvec3(value);
+            areaTotal[v] += element.area;
         }
     }
     vertexValues_.resize(positions_.size());
-    for (size_t v = 0; v < positions_.size(); ++v)
-        vertexValues_[v] = weight[v] > 0.0 ? Color(sum[v] / weight[v]) : Color(0.0f);
+    for (size_t v = 0; v < positions_.size(); ++v) {
+        vertexValues_[v] = total[v] > 0.0       ? Color(sum[v] / total[v])
+                           : areaTotal[v] > 0.0 ? Color(areaSum[v] / areaTotal[v])
+                                                : Color(0.0f);
+    }
 
     // T-vertices: the vertices on a leaf's boundary that are not its corners. Each takes the mean
     // of the end points of the edge it is the midpoint of, which are either the leaf's corners or
@@ -521,8 +620,9 @@ void RadiosityMesh::setElementValues(std::span<const Color> perElement,
     // along the leaf edge come out linear between its corners (Baum et al. 1991's anchoring).
     const PolyMesh& mesh = impl_->mesh;
     std::vector<uint32_t> tVertices;
-    for (const Element& element : elements_) {
-        if (element.face < 0)
+    for (size_t e = 0; e < elements_.size(); ++e) {
+        const Element& element = elements_[e];
+        if (element.face < 0 || (!weights.empty() && !(weights[e] > 0.0f)))
             continue;
         for (const VertexHandle v : mesh.fv_range(FaceHandle(element.face))) {
             const uint32_t id = uint32_t(v.idx());
@@ -575,9 +675,13 @@ RadiosityMeshStats RadiosityMesh::stats() const {
     s.leaves = leafCount_;
     s.vertices = positions_.size();
     s.tVertices = tVertexCount_;
-    size_t triangleTables = 0;
-    for (const auto& t : triangles_)
+    s.pieces = pieces_.size();
+    size_t triangleTables = pieces_.capacity() * sizeof(Piece);
+    for (const auto& t : triangles_) {
         triangleTables += t.capacity() * sizeof(TrianglePatches);
+        for (const TrianglePatches& patches : t)
+            s.cutTriangles += patches.pieceCount > 0 ? 1 : 0;
+    }
     s.memoryBytes = impl_->memoryBytes() + elements_.capacity() * sizeof(Element) +
                     positions_.capacity() * sizeof(Vec3) +
                     (elementValues_.capacity() + vertexValues_.capacity()) * sizeof(Color) +

@@ -46,6 +46,10 @@ struct MeshingSettings {
     // Smallest element area split() may create, m²; 0 = the element's patch area / 4^6, i.e. at
     // most six levels of 1:4 splits below each patch.
     float minElementArea = 0.0f;
+    // Cut the scene triangles along their contact lines (contact_lines.h) before the patches are
+    // made, so that no element straddles one: the triangles of at least 16 times minElementArea,
+    // along segments at least sqrt(minElementArea) long (which must then be > 0).
+    bool contactLines = false;
 };
 
 // Sizes for the log (the solver's statistics).
@@ -56,7 +60,9 @@ struct RadiosityMeshStats {
     size_t vertices = 0;
     // Midpoints on an edge whose other side is not split, as of the last setElementValues().
     size_t tVertices = 0;
-    size_t memoryBytes = 0;  // estimate of what the mesh holds, OpenMesh's arrays included
+    size_t cutTriangles = 0;  // scene triangles cut along contact lines, into...
+    size_t pieces = 0;        // ... this many pieces, each patched like a triangle
+    size_t memoryBytes = 0;   // estimate of what the mesh holds, OpenMesh's arrays included
 };
 
 // A point inside an element: the element and the point's barycentric weights with respect to the
@@ -77,8 +83,9 @@ class RadiosityMesh {
   public:
     static constexpr int kChildren = 4;
 
-    // Meshes every triangle of every scene mesh whose material it holds (holdsMaterial). Each
-    // triangle is split uniformly into n^2 patches, n = 2^k the smallest power of two with
+    // Meshes every triangle of every scene mesh whose material it holds (holdsMaterial), cut
+    // into pieces along its contact lines first if the settings ask it. Each triangle (or piece)
+    // is split uniformly into n^2 patches, n = 2^k the smallest power of two with
     // (longest edge) / n <= patchEdgeLength. A power of two, not ceil(longest edge / length): with
     // it the patch grids of two triangles sharing an edge nest (the coarser one's patch vertices
     // are among the finer one's), so the T-vertex rule of setElementValues() keeps the
@@ -180,7 +187,8 @@ class RadiosityMesh {
     uint32_t sceneMesh(int element) const { return at(element).mesh; }
     uint32_t sceneTriangle(int element) const { return at(element).triangle; }
     // Barycentric coordinates of the corners in the scene triangle (weights of its vertices 0,
-    // 1, 2), in the order of vertices(). Exact: dyadic fractions.
+    // 1, 2), in the order of vertices(). Exact (dyadic fractions) in a triangle not cut into
+    // pieces.
     const std::array<Vec3, 3>& barycentrics(int element) const { return at(element).barycentric; }
 
     // --- Material ----------------------------------------------------------------------------
@@ -212,9 +220,14 @@ class RadiosityMesh {
     // the anchoring of T-vertices of Baum, Mann, Smith and Winget 1991, "Making Radiosity
     // Usable", SIGGRAPH '91). With `perCorner` (size elementCount() too), each leaf adds its own
     // value at each of its corners to its element value there before the averaging (a field
-    // known at the leaves' corners, ShownDirect's). Throws std::invalid_argument for a wrong size.
+    // known at the leaves' corners, ShownDirect's). With `weights` (size elementCount() too) a
+    // leaf weighs weights[leaf] instead of its area: a leaf of weight 0 (one nobody sees, under a
+    // block) counts at none of its corners, unless all the leaves at a corner weigh 0 (then
+    // their areas do), and anchors no T-vertex on its edges. Throws std::invalid_argument for a
+    // wrong size.
     void setElementValues(std::span<const Color> perElement,
-                          std::span<const std::array<Color, 3>> perCorner = {});
+                          std::span<const std::array<Color, 3>> perCorner = {},
+                          std::span<const float> weights = {});
     // The value computed by setElementValues() at a vertex.
     Color vertexValue(uint32_t vertex) const;
     // The Gouraud interpolation at a point (see locate()): the leaf's corner values weighted by
@@ -242,10 +255,23 @@ class RadiosityMesh {
         uint8_t level = 0;
         bool twoSided = false;
     };
-    // Per scene triangle: its first patch and the number of patches along an edge (n = 2^level).
+    // Per scene triangle, or per piece of a triangle cut along contact lines: its first patch
+    // and the number of patches along an edge (n = 2^level).
     struct TrianglePatches {
         int firstPatch = -1;  // -1: not meshed
         uint8_t level = 0;
+        // A cut triangle: its pieces are pieces_[firstPiece, firstPiece + pieceCount), and
+        // firstPatch and level are unused.
+        int firstPiece = -1;
+        int pieceCount = 0;
+    };
+    // A piece of a cut triangle: its patches, and its corners' barycentric coordinates in the
+    // triangle, with what turns the triangle's (b1, b2) into the piece's (w1, w2):
+    // w = toPiece * (b - corners[0]).
+    struct Piece {
+        TrianglePatches patches;
+        std::array<Vec3, 3> corners{};
+        glm::mat2 toPiece{1.0f};
     };
     // OpenMesh's mesh and properties, per-material caches (radiosity_mesh.cpp).
     struct Impl;
@@ -257,6 +283,8 @@ class RadiosityMesh {
     void setMaterial(Element& element);
     void syncPositions();
     void checkValuesCurrent() const;
+    // The leaf at lattice point (b1, b2) of a triangle or piece patched as `patches`.
+    ElementPoint locateInLattice(const TrianglePatches& patches, float b1, float b2) const;
 
     const Scene* scene_;
     float patchEdgeLength_ = 0.0f;
@@ -265,6 +293,7 @@ class RadiosityMesh {
     std::vector<Element> elements_;
     std::vector<Vec3> positions_;                          // per vertex
     std::vector<std::vector<TrianglePatches>> triangles_;  // per scene mesh, per triangle
+    std::vector<Piece> pieces_;
     size_t patchCount_ = 0;
     size_t leafCount_ = 0;
     // Gouraud interpolation, from setElementValues()

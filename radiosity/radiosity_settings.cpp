@@ -10,6 +10,9 @@
 //                                               once solved, to its receiver's (exceedsThreshold)
 //   patch_edge_length   float   0               longest patch edge in m (0 = bounding radius)
 //   min_element_area    float   0               smallest element in m² (0 = total area / 16384)
+//   contact_lines       bool    false           cut the triangles along the lines where other
+//                                               surfaces meet them (a block on a floor) before
+//                                               meshing, so that no element straddles one
 //   convergence         float   1e-4            stop when the estimated relative error of the
 //                                               gather iteration is below this
 //   visibility_samples  int     16              shadow rays per link and direct-light samples per
@@ -62,6 +65,7 @@ MeshingSettings RadiositySettings::meshing(const Scene& scene) const {
         }
         m.minElementArea = static_cast<float>(glm::max(total / 16384.0, 1e-12));
     }
+    m.contactLines = contactLines;
     return m;
 }
 

@@ -28,6 +28,9 @@ struct RadiositySettings {
     float patchEdgeLength = 0.0f;
     // Smallest element area, m²; 0 = the scene's total surface area / 16384.
     float minElementArea = 0.0f;
+    // Cut the scene's triangles along their contact lines before meshing (MeshingSettings::
+    // contactLines): discontinuity meshing of the D0 discontinuities.
+    bool contactLines = false;
     // Stop when the estimated relative error of the iteration (RadiosityIteration::errorBound) is
     // below this.
     double convergence = 1e-4;

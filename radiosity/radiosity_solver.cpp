@@ -241,15 +241,22 @@ Color RadiositySolver::shownIndirect(const ElementPoint& point, bool front) cons
 }
 
 void RadiositySolver::computeVertexValues() {
+    // A leaf side wholly covered (a piece of floor under a block) shows a stand-in value: it
+    // counts at its corners only where nothing visible does.
+    const SideVertexValues::Weights visibleArea = [this](int e, bool side) {
+        return exposure_->fraction(node(e, side)) > 0.0f ? mesh_.area(e) : 0.0f;
+    };
     // The whole reflected radiance last, so that the mesh is left with the front's reflected
     // radiance.
     vertexIndirect_.compute(mesh_, exposure_->shownValues([this](int e, bool side) {
         return elementIndirect(e, side);
-    }));
+    }),
+                            nullptr, visibleArea);
     if (!shown_ && !indirectCorners_) {
         vertexReflected_.compute(mesh_, exposure_->shownValues([this](int element, bool side) {
             return reflectedRadiance(element, side);
-        }));
+        }),
+                                 nullptr, visibleArea);
         return;
     }
     // The part of the reflected light that neither the corners of shown_ nor those of
@@ -261,23 +268,26 @@ void RadiositySolver::computeVertexValues() {
                    : elementDirect(element, side);
         return indirectCorners_ ? first : first + elementIndirect(element, side);
     });
-    vertexRest_.compute(mesh_, rest);
+    vertexRest_.compute(mesh_, rest, nullptr, visibleArea);
     // What the mesh's own vertex values (the bake's) hold: the rest plus the corners' light,
     // averaged over the leaves at each vertex.
-    vertexReflected_.compute(mesh_, rest, [this](int element, bool side) {
-        std::array<Color, 3> corners{};
-        if (shown_) {
-            corners = shown_->cornerD(element, side);
-            for (Color& D : corners)
-                D *= mesh_.rho(element);
-        }
-        if (indirectCorners_) {
-            const std::array<Color, 3> indirect = indirectCorners_->corners(element, side);
-            for (size_t k = 0; k < 3; ++k)
-                corners[k] += indirect[k];
-        }
-        return corners;
-    });
+    vertexReflected_.compute(
+        mesh_, rest,
+        [this](int element, bool side) {
+            std::array<Color, 3> corners{};
+            if (shown_) {
+                corners = shown_->cornerD(element, side);
+                for (Color& D : corners)
+                    D *= mesh_.rho(element);
+            }
+            if (indirectCorners_) {
+                const std::array<Color, 3> indirect = indirectCorners_->corners(element, side);
+                for (size_t k = 0; k < 3; ++k)
+                    corners[k] += indirect[k];
+            }
+            return corners;
+        },
+        visibleArea);
 }
 
 void RadiositySolver::beginStage(const std::string& name, uint64_t total) {
@@ -536,6 +546,8 @@ PassStats RadiositySolver::stats() const {
     return {{"patches", std::to_string(mesh.patches)},
             {"elements", std::to_string(mesh.elements)},
             {"leaves", std::to_string(mesh.leaves)},
+            {"contact_cut_triangles", std::to_string(mesh.cutTriangles)},
+            {"contact_pieces", std::to_string(mesh.pieces)},
             {"clusters", std::to_string(clusters_ ? clusters_->size() : 0)},
             {"sealed_solids", std::to_string(exposure_->sealed().count())},
             {"coincident_patches", std::to_string(exposure_->coincident().hiddenPatches())},

@@ -262,7 +262,7 @@ void ShownDirect::refine(const Solver& solver, size_t maxLeaves, SolveProgress* 
                 keepEnergy(e, side);
         }
     }
-    corners_.anchorTVertices(mesh_);
+    corners_.anchorTVertices(mesh_, exposed_);
     parts_ = {};
     tests_ = {};
     solver_ = nullptr;

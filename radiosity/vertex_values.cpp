@@ -4,16 +4,19 @@ namespace penumbra {
 
 void SideVertexValues::compute(RadiosityMesh& mesh,
                                const std::function<Color(int element, bool front)>& value,
-                               const CornerValues& atCorners) {
+                               const CornerValues& atCorners, const Weights& weight) {
     std::vector<Color> perElement(mesh.elementCount());
     std::vector<std::array<Color, 3>> perCorner(atCorners ? mesh.elementCount() : 0);
+    std::vector<float> weights(weight ? mesh.elementCount() : 0);
     // The back first, so that the mesh is left with the front's values.
     for (const bool front : {false, true}) {
         for (size_t e = 0; e < perElement.size(); ++e)
             perElement[e] = value(static_cast<int>(e), front);
         for (size_t e = 0; e < perCorner.size(); ++e)
             perCorner[e] = atCorners(static_cast<int>(e), front);
-        mesh.setElementValues(perElement, perCorner);
+        for (size_t e = 0; e < weights.size(); ++e)
+            weights[e] = weight(static_cast<int>(e), front);
+        mesh.setElementValues(perElement, perCorner, weights);
         std::vector<Color>& out = values_[front ? 0 : 1];
         out.resize(mesh.vertexCount());
         for (size_t v = 0; v < out.size(); ++v)

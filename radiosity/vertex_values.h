@@ -18,9 +18,12 @@ class SideVertexValues {
     // leaves' values are used), for the back and then the front side, so that the mesh is left
     // with the front's values set (setElementValues). With `atCorners`, each leaf adds its values
     // at its three corners (setElementValues' perCorner).
+    // With `weight`, each leaf side weighs that in the averages at its corners instead of its
+    // area (setElementValues' weights: 0 for a side nobody sees).
     using CornerValues = std::function<std::array<Color, 3>(int element, bool front)>;
+    using Weights = std::function<float(int element, bool front)>;
     void compute(RadiosityMesh& mesh, const std::function<Color(int element, bool front)>& value,
-                 const CornerValues& atCorners = nullptr);
+                 const CornerValues& atCorners = nullptr, const Weights& weight = nullptr);
     // No compute() yet.
     bool empty() const { return values_[0].empty(); }
     // The interpolated value at a point located on the mesh (RadiosityMesh::locate): the leaf's
