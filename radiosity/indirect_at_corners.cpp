@@ -1,8 +1,7 @@
 #include "radiosity/indirect_at_corners.h"
 
-#include "core/sampler.h"
-#include "core/sampling.h"
 #include "core/scene.h"
+#include "radiosity/crease_refinement.h"
 #include "radiosity/element_sampling.h"
 
 #include <tbb/parallel_for.h>
@@ -10,8 +9,6 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
-#include <limits>
-#include <optional>
 #include <tuple>
 
 namespace penumbra {
@@ -95,21 +92,15 @@ std::vector<IndirectAtCorners::CornerStates> IndirectAtCorners::cornerStates(
 
 std::vector<IndirectAtCorners::Corner> IndirectAtCorners::exposedCorners(
     const std::vector<int>& leaves, const std::vector<CornerStates>& states) const {
-    const auto quantized = [](float v) { return static_cast<int32_t>(std::lround(v * 1e4f)); };
     std::vector<Corner> corners;
     for (size_t i = 0; i < leaves.size(); ++i) {
         const int e = leaves[i];
-        const Vec3& n = mesh_.normal(e);
         for (size_t c = 0; c < 6; ++c) {
             if (states[i][c] != CornerState::Exposed)
                 continue;
             const bool front = c < 3;
             const size_t k = c % 3;
-            corners.push_back({e,
-                               front,
-                               k,
-                               {static_cast<int32_t>(mesh_.vertices(e)[k]), front ? 0 : 1,
-                                quantized(n.x), quantized(n.y), quantized(n.z)}});
+            corners.push_back({e, front, k, cornerKey(mesh_, e, front, k)});
         }
     }
     return corners;
@@ -120,23 +111,11 @@ IndirectAtCorners::Gathered IndirectAtCorners::meanReflected(const Solution& sol
                                                              uint64_t& rays) const {
     const ElementSample x =
         ElementSampler(scene_, mesh_, corner.leaf).at(insetWeights(kCorners[corner.k]));
-    const Frame frame = Frame::fromNormal(corner.front ? x.n : -x.n);
-    Sampler sampler(kCornerGatherSeed);
     Color sum(0.0f);
-    double inverseDistances = 0.0;
     const auto n = static_cast<uint32_t>(raysPerCorner_);
-    for (uint32_t j = 0; j < n; ++j) {
-        sampler.startPixelSample(IVec2(corner.key[0], corner.key[1]), j);
-        const Vec3 w = frame.toWorld(sampleCosineHemisphere(sampler.get2D()));
-        const std::optional<MeshedHit> y =
-            firstMeshedHit(scene_, mesh_, Ray{offsetRayOrigin(x.p, x.pError, x.n, w), w}, rays);
-        if (!y)
-            continue;
-        sum += y->transmittance * solution.reflectedAt(*y);
-        inverseDistances += 1.0 / std::max(double(glm::length(y->hit.p - x.p)), 1e-6);
-    }
-    const float reach = inverseDistances > 0.0 ? static_cast<float>(n / inverseDistances)
-                                               : std::numeric_limits<float>::infinity();
+    const float reach = castCornerRays(
+        scene_, mesh_, x, corner.front, kCornerGatherSeed, IVec2(corner.key[0], corner.key[1]), n,
+        rays, [&](const MeshedHit& y) { sum += y.transmittance * solution.reflectedAt(y); });
     return {sum / static_cast<float>(n), reach};
 }
 
@@ -150,7 +129,7 @@ Color IndirectAtCorners::at(const ElementPoint& point, bool front) const {
     const Color mean = means_[e][front ? 0 : 1];
     Color L = mean;
     for (size_t k = 0; k < 3; ++k) {
-        const float reach = reach_[e][(front ? 0 : 3) + k];
+        const float reach = std::max(reach_[e][(front ? 0 : 3) + k], kCreaseSize);
         const float d = glm::length(p - x[k]);
         const float w = d > reach ? reach / d : 1.0f;
         L += point.weights[static_cast<int>(k)] * w * (c[k] - mean);

@@ -24,12 +24,20 @@
 // fallback), b_k the point's barycentrics, w_k = min(1, R_k / d_k), d_k its distance to corner k
 // and R_k the harmonic mean length of that corner's rays, how far its value holds (the validity
 // radius of Ward, Rubinstein and Clear 1988, "A Ray Tracing Solution for Diffuse
-// Interreflection"). On leaves smaller than their corners' reach this is the corners' linear
-// interpolation; a large leaf touching another surface (a stair tread's metre-long face at the
-// wall) keeps the contact's darkness near the contact instead of along its length.
+// Interreflection"), but never less than kCreaseSize (crease_refinement.h). On leaves smaller
+// than their corners' reach this is the corners' linear interpolation; a large leaf touching
+// another surface that the refinement at creases could not split (its budget spent) keeps the
+// contact's darkness near the contact instead of along its length. The floor is the smallest
+// leaf that refinement makes: at a crease R_k is a few micrometres (half the rays meet the other
+// surface at once), and without it the leaves there, refined to show the crease's dip, would
+// show their element mean up to the crease (the path tracer's dip, a centimetre wide at the
+// Cornell box's short block, is what those leaves' corners hold; the minimum clamp on the
+// validity radius of Tabellion and Lamorlette 2004, "An Approximate Global Illumination System
+// for Computer Generated Films", plays the same part).
 #pragma once
 
 #include "core/math.h"
+#include "radiosity/corner_rays.h"
 #include "radiosity/leaf_corner_values.h"
 #include "radiosity/meshed_hit.h"
 #include "radiosity/radiosity_mesh.h"
@@ -86,13 +94,13 @@ class IndirectAtCorners {
   private:
     enum class CornerState : uint8_t { None, Exposed, Covered };
     using CornerStates = std::array<CornerState, 6>;  // [front c0, c1, c2, back c0, c1, c2]
-    // An exposed corner of a leaf side, and the key of the corners gathered with it: the mesh
-    // vertex, the side, and the leaf's normal to a ten-thousandth (one plane).
+    // An exposed corner of a leaf side, and the key of the corners gathered with it (cornerKey,
+    // corner_rays.h).
     struct Corner {
         int leaf = 0;
         bool front = true;
         size_t k = 0;
-        std::array<int32_t, 5> key{};
+        CornerKey key{};
     };
     // A corner's gather: the mean reflected radiance its rays meet (the gather less rho), and
     // the harmonic mean of their lengths, how far from the corner its value holds.

@@ -15,6 +15,26 @@ bool coplanar(const RadiosityMesh& mesh, int a, int b) {
 
 }  // namespace
 
+void LeafCornerValues::inheritSplit(int parent, int firstChild) {
+    values_.resize(
+        std::max(values_.size(), static_cast<size_t>(firstChild + RadiosityMesh::kChildren)));
+    const std::array<Color, 6> v = values_[static_cast<size_t>(parent)];
+    for (size_t side = 0; side < 2; ++side) {
+        const size_t o = 3 * side;
+        // The parent's corners c0 c1 c2 and edge midpoints m01 m12 m20.
+        const std::array<Color, 6> points = {v[o],
+                                             v[o + 1],
+                                             v[o + 2],
+                                             0.5f * (v[o] + v[o + 1]),
+                                             0.5f * (v[o + 1] + v[o + 2]),
+                                             0.5f * (v[o + 2] + v[o])};
+        for (int k = 0; k < RadiosityMesh::kChildren; ++k)
+            for (size_t j = 0; j < 3; ++j)
+                values_[static_cast<size_t>(firstChild + k)][o + j] =
+                    points[static_cast<size_t>(RadiosityMesh::kChildCorners[k][j])];
+    }
+}
+
 void LeafCornerValues::anchorTVertices(const RadiosityMesh& mesh, const SideShows& shows) {
     std::vector<int> leaves = mesh.leafElements();
     std::unordered_multimap<uint32_t, std::pair<int, size_t>> cornersAt;  // vertex -> (leaf, k)

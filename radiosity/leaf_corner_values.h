@@ -18,6 +18,10 @@ class LeafCornerValues {
   public:
     // Zero at every corner of `elements` elements.
     void assign(size_t elements) { values_.assign(elements, {}); }
+    // Gives the children of a leaf split after the values were set (firstChild to firstChild + 3,
+    // RadiosityMesh's numbering) the leaf's interpolation at their corners, so that they show
+    // what it showed.
+    void inheritSplit(int parent, int firstChild);
     // Corner k (in the order of RadiosityMesh::vertices()) of the element's side.
     Color& at(int element, bool front, size_t k) {
         return values_[static_cast<size_t>(element)][(front ? 0 : 3) + k];

@@ -49,6 +49,9 @@ constexpr int kSubdivisionPasses = 4;
 // the solve's, and at least kShownMinLeaves (a lone floor under a downlight needs ten thousand).
 constexpr size_t kShownLeavesPerLeaf = 4;
 constexpr size_t kShownMinLeaves = 65536;
+// The most leaves the refinement at creases may leave: this many times the solve's, and at
+// least kShownMinLeaves (the modern hall's creases need 8 times its 39 000 leaves).
+constexpr size_t kCreaseLeavesPerLeaf = 16;
 // A reflectance below which a channel's D is not recovered from its reflected light
 // (elementDirect / rho): a tiny rho would blow its rounding up into a huge D.
 constexpr float kMinReflectance = 1e-4f;
@@ -72,17 +75,7 @@ RadiositySolver::RadiositySolver(const Scene& scene, RadiosityMesh& mesh,
     links_ = std::make_unique<LinkHierarchy>(mesh_, *exposure_, clusters_ ? clusters_->size() : 0);
     radiance_ = std::make_unique<RadianceHierarchy>(
         mesh_, *exposure_, *irradiance_, clusters_.get(), *transfer_, *links_, settings_.iteration);
-    // A split element's children start from their parent's radiance and direct light until the
-    // next sweep and their own sampling replace them.
-    const auto split = [this](int e, int first) {
-        resizeArrays();
-        for (int c = first; c < first + RadiosityMesh::kChildren; ++c) {
-            for (const bool side : {true, false}) {
-                radiance_->inherit(node(c, side), node(e, side));
-                irradiance_->inherit(node(c, side), node(e, side));
-            }
-        }
-    };
+    const auto split = [this](int e, int first) { inheritSplit(e, first); };
     const auto settle = [this](const std::vector<int>& created) {
         rays_ += exposure_->compute(created);
         rays_ += irradiance_->compute(created);
@@ -105,6 +98,16 @@ void RadiositySolver::resizeArrays() {
 }
 
 RadiositySolver::~RadiositySolver() = default;
+
+void RadiositySolver::inheritSplit(int e, int first) {
+    resizeArrays();
+    for (int c = first; c < first + RadiosityMesh::kChildren; ++c) {
+        for (const bool side : {true, false}) {
+            radiance_->inherit(node(c, side), node(e, side));
+            irradiance_->inherit(node(c, side), node(e, side));
+        }
+    }
+}
 
 Color RadiositySolver::elementRadiance(int e, bool side) const {
     return radiance_->L(node(e, side));
@@ -167,6 +170,39 @@ int RadiositySolver::finalGatherRays() const {
     if (settings_.finalGatherRays != RadiositySettings::kAutoFinalGather)
         return settings_.finalGatherRays;
     return clusters_ ? RadiositySettings::kClusterFinalGatherRays : 0;
+}
+
+void RadiositySolver::refineAtCreases(const std::function<bool()>& stop) {
+    const auto start = std::chrono::steady_clock::now();
+    std::vector<int> created;  // the children of a round's splits
+    const CreaseRefinement::Solver solver{
+        .shown =
+            [this](int e, bool side) {
+                return (side || mesh_.twoSided(e)) && exposure_->fraction(node(e, side)) > 0.0f;
+            },
+        .split =
+            [this, &created](int leaf, float minChildArea) {
+                const int first = mesh_.split(leaf, minChildArea);
+                inheritSplit(leaf, first);
+                if (shown_)
+                    shown_->inheritSplit(leaf, first);
+                for (int c = first; c < first + RadiosityMesh::kChildren; ++c)
+                    created.push_back(c);
+                return first;
+            },
+        // The children's exposure only: their direct light is the corners' they inherit (or,
+        // without them, their parent's mean), as the solve left it.
+        .settle =
+            [this, &created] {
+                rays_ += exposure_->compute(created);
+                created.clear();
+            },
+        .stop = stop};
+    const size_t maxLeaves = std::max(kCreaseLeavesPerLeaf * mesh_.leafCount(), kShownMinLeaves);
+    creases_ = CreaseRefinement::run(scene_, mesh_, solver, maxLeaves, progress_);
+    if (creases_.leavesSplit > 0)
+        computeVertexValues();
+    secondsCreases_ = secondsSince(start);
 }
 
 void RadiositySolver::showDirectAtCorners() {
@@ -449,6 +485,11 @@ void RadiositySolver::solve(SolveProgress* progress, LinkRefiner::Deadline deadl
         showDirectAtCorners();
         computeVertexValues();
     }
+    // After the direct light's refinement, whose corners the new leaves inherit: it refines
+    // where the direct light needs it, and evaluating the sources (a sky's directions, an
+    // emitter's contour) at every corner along every crease would double the daylit room's view.
+    if (settings_.indirectAtCorners > 0 && !timeUp())
+        refineAtCreases(timeUp);
     secondsTotal_ = secondsSince(start);
     peakSolve_ = peakMemoryMiB();
     refiner_->setProgress(nullptr);
@@ -543,6 +584,7 @@ PassStats RadiositySolver::stats() const {
     const DepositedFlux* deposits = irradiance_->deposits();
     const float depositedFlux = deposits ? luminance(deposits->totalPower()) : 0.0f;
     const DepositedFlux* transferred = irradiance_->transferred();
+    const uint64_t rays = rays_ + refiner_->rays() + finalGather_->rays() + creases_.rays;
     return {{"patches", std::to_string(mesh.patches)},
             {"elements", std::to_string(mesh.elements)},
             {"leaves", std::to_string(mesh.leaves)},
@@ -561,7 +603,7 @@ PassStats RadiositySolver::stats() const {
             {"residual", formatStat(last.change)},
             {"error_bound", formatStat(last.errorBound)},
             {"converged", converged() ? "yes" : "no"},
-            {"rays", std::to_string(rays_ + refiner_->rays() + finalGather_->rays())},
+            {"rays", std::to_string(rays)},
             {"deposited_photons", std::to_string(deposits ? deposits->count() : 0)},
             {"deposited_flux_lm", formatStat(depositedFlux)},
             {"specular_transfer_rounds", std::to_string(transferRounds_)},
@@ -581,6 +623,10 @@ PassStats RadiositySolver::stats() const {
             {"final_gather_passes", std::to_string(finalGatherPasses_)},
             {"final_gather_rays", std::to_string(finalGather_->rays())},
             {"seconds_final_gather", formatStat(secondsFinalGather_)},
+            {"crease_splits", std::to_string(creases_.leavesSplit)},
+            {"crease_budget_reached", creases_.budgetReached ? "yes" : "no"},
+            {"crease_rays", std::to_string(creases_.rays)},
+            {"seconds_creases", formatStat(secondsCreases_)},
             {"direct_at_corners_splits", std::to_string(shown_ ? shown_->leavesSplit() : 0)},
             {"direct_at_corners_budget_reached", shown_ && shown_->budgetReached() ? "yes" : "no"},
             {"direct_at_corners_rays", std::to_string(shown_ ? shown_->rays() : 0)},

@@ -82,6 +82,7 @@
 
 #include "core/math.h"
 #include "core/stats.h"
+#include "radiosity/crease_refinement.h"
 #include "radiosity/deposited_flux.h"
 #include "radiosity/link_refiner.h"
 #include "radiosity/radiosity_iteration.h"
@@ -204,9 +205,15 @@ class RadiositySolver : public RadiositySolution {
 
   private:
     void resizeArrays();
+    // Element e was split into first .. first + 3: they start from its radiance and direct light
+    // until a sweep and their own sampling replace them.
+    void inheritSplit(int e, int first);
     // The final gather's passes (final_gather.h), each a stage of rays, one per leaf, then its
     // gather sweeps; with a deadline, no pass that would end past it (as long as the last).
     void finalGather(LinkRefiner::Deadline deadline);
+    // Leaves refined where surfaces meet, for the indirect light at the corners
+    // (crease_refinement.h; only with RadiositySettings::indirectAtCorners), until `stop` says so.
+    void refineAtCreases(const std::function<bool()>& stop);
     // The sources' direct light at the leaves' corners, on a mesh refined for it (shown_direct.h;
     // RadiositySettings::directAtCorners).
     void showDirectAtCorners();
@@ -234,6 +241,7 @@ class RadiositySolver : public RadiositySolution {
     std::unique_ptr<ShownDirect> shown_;                  // null unless directAtCorners
     std::unique_ptr<IndirectAtCorners> indirectCorners_;  // null unless indirectAtCorners > 0
 
+    CreaseRefinement creases_;
     int rounds_ = 0;
     bool stoppedRefining_ = false;      // the deadline ended the refinement
     bool abandoned_ = false;            // ... during the initial linking, with OnTimeUp::Abandon
@@ -246,8 +254,8 @@ class RadiositySolver : public RadiositySolution {
     int transferRounds_ = 0;
     double secondsTransfer_ = 0;
     double secondsDirect_ = 0, secondsLinking_ = 0, secondsSolve_ = 0, secondsRefine_ = 0,
-           secondsFinalGather_ = 0, secondsShownDirect_ = 0, secondsIndirectAtCorners_ = 0,
-           secondsTotal_ = 0;
+           secondsFinalGather_ = 0, secondsCreases_ = 0, secondsShownDirect_ = 0,
+           secondsIndirectAtCorners_ = 0, secondsTotal_ = 0;
     double peakDirect_ = 0, peakLinking_ = 0, peakRefine_ = 0, peakSolve_ = 0;  // MiB
 };
 

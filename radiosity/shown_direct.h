@@ -101,6 +101,10 @@ class ShownDirect {
     // new. With `progress`, a stage per round of splits.
     void refine(const Solver& solver, size_t maxLeaves, SolveProgress* progress = nullptr);
 
+    // Gives the children of a leaf split after refine() (the refinement at creases,
+    // crease_refinement.h) the leaf's interpolation at their corners: they show what it showed.
+    void inheritSplit(int parent, int firstChild) { corners_.inheritSplit(parent, firstChild); }
+
     // D at a point of a leaf (its corners' values weighted by the point's barycentrics), on one
     // side, cd/m²; zero on no element or before refine().
     Color D(const ElementPoint& point, bool front) const;

@@ -28,6 +28,9 @@ struct BlockErrors {
     double worst = 0.0;  // the largest relative error of a block mean, any channel
     int blocks = 0;      // blocks wholly inside one face
     int within3 = 0;     // ... within 3 % in every channel
+    // The same over every block of the image, those across a crease included.
+    double worstOfAll = 0.0;
+    int allOff3 = 0;  // blocks more than 3 % off in some channel
 };
 
 // The blocks whose every pixel sees one face wholly (regionMask), so that the pixel filter's
@@ -48,14 +51,17 @@ BlockErrors blockErrors(const Image& test, const Image& reference, const std::ve
                     }
                 }
             }
-            if (!oneFace)
-                continue;
             double worst = 0.0;
             for (int c = 0; c < 3; ++c)
                 worst = std::max(worst, std::abs(t[c] / r[c] - 1.0));
+            errors.worstOfAll = std::max(errors.worstOfAll, worst);
+            errors.allOff3 += worst > 0.03;
             if (worst > 0.03)
-                std::cout << "block (" << bx << ", " << by << "): " << t[0] / r[0] << " "
+                std::cout << "block (" << bx << ", " << by << ")"
+                          << (oneFace ? "" : " across faces") << ": " << t[0] / r[0] << " "
                           << t[1] / r[1] << " " << t[2] / r[2] << "\n";
+            if (!oneFace)
+                continue;
             errors.worst = std::max(errors.worst, worst);
             ++errors.blocks;
             errors.within3 += worst <= 0.03;
@@ -76,7 +82,9 @@ BlockErrors renderBlocks(const std::string& pipeline) {
         blockErrors(readImage(out), readImage(kSceneFolder + "/reference.exr"),
                     regionMask(scene, kSize, kSize));
     std::cout << pipeline << ": " << errors.within3 << " of " << errors.blocks
-              << " blocks within 3 %, the worst " << 100.0 * errors.worst << " %\n";
+              << " blocks within 3 %, the worst " << 100.0 * errors.worst << " %; of all "
+              << (kSize / kBlock) * (kSize / kBlock) << ", " << errors.allOff3
+              << " more than 3 % off, the worst " << 100.0 * errors.worstOfAll << " %\n";
     return errors;
 }
 
@@ -87,21 +95,30 @@ BlockErrors renderBlocks(const std::string& pipeline) {
 // leaf's edge take its interpolation, so that the field has no cracks). The three left are the
 // short block's front face, 3.6-4.2 % low in red: the solution's own light one bounce away, which
 // the `hybrid-preview` pipeline, gathering it at every pixel, shows as well.
+// Over all 256 blocks, those across the creases included: 21 more than 3 % off and the worst
+// 16.5 % (the creases 8-17 % too bright) until the leaves were refined along the creases
+// (radiosity/crease_refinement.h); since, 13 and 5.1 %.
 TEST(CornellBlocks, TheDistributionPreview) {
     const BlockErrors errors = renderBlocks("distribution");
     EXPECT_GE(errors.blocks, 100);
     EXPECT_GE(errors.within3, errors.blocks - 3);
     EXPECT_LT(errors.worst, 0.045);
+    EXPECT_LE(errors.allOff3, 16);
+    EXPECT_LT(errors.worstOfAll, 0.08);
 }
 
 // The same 86 -> 106 of 109, and the same three left. Before the direct light was shown at the
 // leaves' corners (direct_at_corners, on by default since 2026-12-04), 105 and the worst 7.6 %,
 // on the floor in front of the green wall: the direct light's element means.
+// Over all blocks, 21 off and the worst 16.6 % before the refinement at creases, 14 and 6.8 %
+// since.
 TEST(CornellBlocks, TheRadiosityView) {
     const BlockErrors errors = renderBlocks("radiosity");
     EXPECT_GE(errors.blocks, 100);
     EXPECT_GE(errors.within3, errors.blocks - 3);
     EXPECT_LT(errors.worst, 0.045);
+    EXPECT_LE(errors.allOff3, 16);
+    EXPECT_LT(errors.worstOfAll, 0.08);
 }
 
 }  // namespace

@@ -45,9 +45,10 @@ TEST(HierarchicalRadiosity, AgreesWithFullMatrixSolve) {
     // the links' transfer by the rays' (with it, the means agree within 0.2 %, one patch side
     // within 5 %).
     settings.finalGatherRays = 0;
-    // The solve's leaves, not those the shown direct light splits after it (four times as many:
-    // the dense solve over them takes minutes).
+    // The solve's leaves, not those the shown direct light and the refinement at creases split
+    // after it (four times as many: the dense solve over them takes minutes).
     settings.directAtCorners = false;
+    settings.indirectAtCorners = 0;
     RadiosityMesh mesh(*scene, settings.meshing(*scene));
     RadiositySolver solver(*scene, mesh, settings);
     solver.solve();
@@ -163,6 +164,10 @@ TEST(HierarchicalRadiosity, AllMinusIndirectIsTheDirectLightOfTheSources) {
     RadiositySettings settings;
     settings.minElementArea = 0.5f / 64.0f;
     settings.epsilon = 1e-3f;
+    // The leaves that the refinement at creases adds after the solve for the indirect light at
+    // the corners (crease_refinement.h) keep their parent's values: the solve's leaves are
+    // what is tested here.
+    settings.indirectAtCorners = 0;
     RadiosityMesh mesh(*scene, settings.meshing(*scene));
     RadiositySolver solver(*scene, mesh, settings);
     solver.solve();
@@ -285,7 +290,8 @@ TEST(HierarchicalRadiosity, StatsReportPeakMemoryPerStage) {
     for (const auto& [key, value] : solver.stats()) {
         // "yes" or "no"; every other figure is a number
         if (key != "converged" && key != "refinement_stopped_by_time_limit" &&
-            key != "abandoned_by_time_limit" && key != "direct_at_corners_budget_reached")
+            key != "abandoned_by_time_limit" && key != "direct_at_corners_budget_reached" &&
+            key != "crease_budget_reached")
             stats[key] = std::stod(value);
     }
     const std::vector<std::string> stages = {"direct", "linking", "refine", "solve"};
@@ -325,22 +331,34 @@ TEST(HierarchicalRadiosity, ReportsItsStagesToTheProgressSink) {
     ASSERT_GE(progress.stages.size(), expected.size() + 2);
     for (size_t i = 0; i < expected.size(); ++i)
         EXPECT_EQ(progress.stages[i].name, expected[i]);
-    // Then the final gather's passes, two stages each (its rays, then the sweeps), and last the
-    // direct light at the corners: its first evaluation, then a stage per round of splits.
+    // Then the final gather's passes, two stages each (its rays, then the sweeps), the direct
+    // light at the corners (its first evaluation, then a stage per round of splits), and last a
+    // stage per round of the refinement at creases (the room's twelve edges).
     int passes = -1;
     for (const auto& [key, value] : solver.stats()) {
         if (key == "final_gather_passes")
             passes = std::stoi(value);
     }
     ASSERT_GE(passes, 1);
+    // The number of stages, counted back from `end` stages before the last, whose names begin
+    // with `name`.
+    const auto stagesBefore = [&](size_t end, const std::string& name) {
+        size_t count = 0;
+        while (end + count < progress.stages.size() &&
+               progress.stages[progress.stages.size() - 1 - end - count].name.rfind(name, 0) == 0)
+            ++count;
+        return count;
+    };
+    const std::string creases = "refinement at creases, round ";
+    const size_t creaseStages = stagesBefore(0, creases);
+    ASSERT_GE(creaseStages, 1u);
+    EXPECT_EQ(progress.stages[progress.stages.size() - creaseStages].name, creases + "1");
     const std::string corners = "direct light at the corners";
-    size_t cornerStages = 0;
-    while (cornerStages < progress.stages.size() &&
-           progress.stages[progress.stages.size() - 1 - cornerStages].name.rfind(corners, 0) == 0)
-        ++cornerStages;
+    const size_t cornerStages = stagesBefore(creaseStages, corners);
     ASSERT_GE(cornerStages, 1u);
-    EXPECT_EQ(progress.stages[progress.stages.size() - cornerStages].name, corners);
-    const size_t last = progress.stages.size() - 1 - cornerStages - 2 * static_cast<size_t>(passes);
+    EXPECT_EQ(progress.stages[progress.stages.size() - creaseStages - cornerStages].name, corners);
+    const size_t last =
+        progress.stages.size() - 1 - cornerStages - creaseStages - 2 * static_cast<size_t>(passes);
     EXPECT_EQ(progress.stages[last - 1].name, "gather to convergence");
     EXPECT_EQ(progress.stages[last].name, "push-pull of the direct part, vertex values");
     for (int pass = 1; pass <= passes; ++pass) {

@@ -6,10 +6,13 @@
 // B-2, two rectangles by superposition). F goes from 1/2 at the wall's foot to a few per cent a
 // metre away: the change within an element that the element means average away. The solution is
 // a stand-in given to the gather (the wall's hits reflect Lw, all else nothing), so that the
-// closed form is exact for what the gather is asked.
+// closed form is exact for what the gather is asked. Last, the refinement at creases
+// (radiosity/crease_refinement.h) on the same floor, whose dip at the wall's foot it must let the
+// corners show.
 #include "radiosity/indirect_at_corners.h"
 
 #include "core/scene.h"
+#include "radiosity/crease_refinement.h"
 #include "radiosity/element_sampling.h"
 #include "radiosity/radiosity_mesh.h"
 #include "radiosity/radiosity_settings.h"
@@ -18,9 +21,12 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <iostream>
 #include <map>
+#include <optional>
+#include <utility>
 
 namespace penumbra::test {
 namespace {
@@ -49,7 +55,7 @@ struct WallAndFloor {
     std::unique_ptr<RadiosityMesh> mesh;
 };
 
-WallAndFloor wallAndFloor() {
+WallAndFloor wallAndFloor(float patchEdgeLength = 0.1f) {
     GltfBuilder builder;
     const int floor = builder.addMaterial({.baseColor = Color(kRho)});
     const int wall = builder.addMaterial({.baseColor = Color(kRho)});
@@ -58,8 +64,9 @@ WallAndFloor wallAndFloor() {
     builder.addQuad({0, 0, w}, {0, 0, -w}, {0, kHeight, -w}, {0, kHeight, w}, wall);
     WallAndFloor s;
     s.scene = loadBuiltScene(builder, "indirect-at-corners");
-    // Patches of at most 0.1 m: elements of a few centimetres at the wall's foot.
-    s.mesh = std::make_unique<RadiosityMesh>(*s.scene, MeshingSettings{.patchEdgeLength = 0.1f});
+    // By default patches of at most 0.1 m: elements of a few centimetres at the wall's foot.
+    s.mesh = std::make_unique<RadiosityMesh>(*s.scene,
+                                             MeshingSettings{.patchEdgeLength = patchEdgeLength});
     return s;
 }
 
@@ -182,6 +189,121 @@ TEST(IndirectAtCorners, ACornerCountsOnlyAsFarAsItsRaysReach) {
     }
     EXPECT_GT(atFoot, 10);
     EXPECT_GT(far, 10);
+}
+
+double leafSize(const RadiosityMesh& mesh, int e) {
+    return std::sqrt(2.0 * mesh.area(e));
+}
+
+// The refinement at creases (radiosity/crease_refinement.h) on the floor and wall with patches of
+// half a metre, as a hall's: the corners at the foot hold their value micrometres, so without it
+// the leaves there show their mean up to the wall. A stand-in solution again, whose leaf means are
+// the closed form at their centroids, so that the refinement and the reconstruction are tested,
+// not a solve.
+struct RefinedWallAndFloor {
+    WallAndFloor s = wallAndFloor(0.5f);
+    float wallX = s.scene->bounds().lo.x;  // the loader rebases the world on the geometry's centre
+    CreaseRefinement refinement;
+
+    void refine(size_t maxLeaves) {
+        const CreaseRefinement::Solver solver{
+            .shown = [](int, bool front) { return front; },
+            .split = [this](int leaf,
+                            float minChildArea) { return s.mesh->split(leaf, minChildArea); },
+            .settle = [] {},
+            .stop = nullptr};
+        refinement = CreaseRefinement::run(*s.scene, *s.mesh, solver, maxLeaves);
+    }
+
+    IndirectAtCorners::Solution solution() const {
+        IndirectAtCorners::Solution lit = wallLitSolution();
+        lit.fallback = [this](int e, bool) {
+            const Vec3 c = s.mesh->centroid(e);
+            return s.mesh->normal(e).y > 0.5f
+                       ? Color(kRho * kWallRadiance * wallFormFactor(c.x - wallX, c.z))
+                       : Color(0.0f);
+        };
+        return lit;
+    }
+
+    // The largest size of the floor's leaves with a corner within `near` of the wall, and
+    // whether every floor leaf wholly beyond `far` is still a patch (level 0: not split).
+    std::pair<double, bool> floorLeaves(float near, float far) const {
+        double largestNear = 0.0;
+        bool farUnsplit = true;
+        for (const int e : s.mesh->leafElements()) {
+            if (!(s.mesh->normal(e).y > 0.5f))
+                continue;
+            float nearest = INFINITY;
+            for (const Vec3& p : s.mesh->corners(e))
+                nearest = std::min(nearest, p.x - wallX);
+            if (nearest < near)
+                largestNear = std::max(largestNear, leafSize(*s.mesh, e));
+            else if (nearest > far)
+                farUnsplit = farUnsplit && s.mesh->level(e) == 0;
+        }
+        return {largestNear, farUnsplit};
+    }
+};
+
+// The leaves along the wall's foot, on both faces, are split down to kCreaseSize; the floor's
+// leaves half a metre out are not, nor are any of the wall's that do not touch the floor.
+TEST(CreaseRefinement, SplitsAlongTheCreaseDownToItsSizeAndNowhereElse) {
+    RefinedWallAndFloor r;
+    r.refine(1u << 20);
+    const auto [nearFoot, farUnsplit] = r.floorLeaves(1e-4f, 0.5f);
+    std::cout << r.refinement.leavesSplit << " leaves split, " << r.s.mesh->leafCount()
+              << " leaves: at the foot up to " << nearFoot << " m\n";
+    EXPECT_FALSE(r.refinement.budgetReached);
+    EXPECT_GE(nearFoot, kCreaseSize);
+    EXPECT_LT(nearFoot, 2.0 * kCreaseSize);
+    EXPECT_TRUE(farUnsplit);
+    for (const int e : r.s.mesh->leafElements()) {
+        if (r.s.mesh->normal(e).x > 0.5f &&
+            r.s.mesh->centroid(e).y - r.s.scene->bounds().lo.y > 0.3f * kHeight) {
+            EXPECT_EQ(r.s.mesh->level(e), 0) << e;
+        }
+    }
+}
+
+// Over a budget the refinement stops, says so, and leaves no more leaves than the budget allows.
+TEST(CreaseRefinement, StopsAtItsBudget) {
+    RefinedWallAndFloor r;
+    const size_t budget = r.s.mesh->leafCount() + 30;
+    r.refine(budget);
+    EXPECT_TRUE(r.refinement.budgetReached);
+    EXPECT_LE(r.s.mesh->leafCount(), budget);
+    EXPECT_GT(r.refinement.leavesSplit, 0u);
+}
+
+// What the floor shows between the wall's foot and a few centimetres out, against rho Lw F (F
+// from 0.50 to 0.47 over the first 5 cm). Without the refinement (the mesh's leaves of 0.25 m)
+// these points were 7-8 % low: the corners at the foot hold their value a few micrometres, and
+// the leaf's mean takes over. Each shown value interpolates corners of 256 stratified rays;
+// averaged over 41 points across the middle of the floor the mean error is within 1.5 % at every
+// distance (measured: within 0.2 %).
+TEST(CreaseRefinement, TheFloorShowsTheDipAtTheWallsFoot) {
+    RefinedWallAndFloor r;
+    r.refine(1u << 20);
+    IndirectAtCorners corners(*r.s.scene, *r.s.mesh, 256);
+    corners.gather(r.solution());
+    for (const float x : {0.002f, 0.005f, 0.01f, 0.02f, 0.05f}) {
+        double errorSum = 0.0;
+        int points = 0;
+        for (int i = -20; i <= 20; ++i) {
+            const float z = 0.02f * static_cast<float>(i);
+            const std::optional<SurfaceHit> hit =
+                r.s.scene->intersect(Ray(Vec3(r.wallX + x, 1e-3f, z), Vec3(0, -1, 0)));
+            ASSERT_TRUE(hit.has_value()) << x << ", " << z;
+            const ElementPoint point = r.s.mesh->locate(hit->mesh, hit->triangle, hit->barycentric);
+            const double expected = kRho * kWallRadiance * wallFormFactor(x, z);
+            errorSum += corners.at(point, true).g / expected - 1.0;
+            ++points;
+        }
+        const double meanError = errorSum / points;
+        std::cout << "x = " << x << " m: mean error " << 100.0 * meanError << " %\n";
+        EXPECT_LT(std::abs(meanError), 0.015) << x;
+    }
 }
 
 }  // namespace
