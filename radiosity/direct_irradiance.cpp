@@ -38,6 +38,11 @@ void DirectIrradiance::inherit(int childNode, int parentNode) {
         Dtransferred_[child] = Dtransferred_[parent];
 }
 
+void DirectIrradiance::updateDeposits() {
+    if (deposits_)
+        deposits_->update();
+}
+
 // The mean irradiance over the side's exposed part, divided by pi, of the flux deposited on it:
 // photons land on the exposed part only.
 Color DirectIrradiance::depositedD(const DepositedFlux& flux, int element, bool front) const {

@@ -38,6 +38,10 @@ class DirectIrradiance {
     void resize();
     // A new child's side starts from its parent's until compute() samples its own.
     void inherit(int childNode, int parentNode);
+    // Moves the caustic photons' deposits down to the leaves split since the last call
+    // (DepositedFlux::update), as compute() does first: for splits whose children keep their
+    // parent's D (the refinement at creases), so that depositedSources() reads them.
+    void updateDeposits();
     // How compute() goes on with the elements left: at full samples, with one point each (a
     // solve short of time: D unbiased but noisier, its spread unknown and taken as 0, so that
     // it splits nothing), or not at all.

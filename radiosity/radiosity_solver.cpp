@@ -190,11 +190,12 @@ void RadiositySolver::refineAtCreases(const std::function<bool()>& stop) {
                     created.push_back(c);
                 return first;
             },
-        // The children's exposure only: their direct light is the corners' they inherit (or,
-        // without them, their parent's mean), as the solve left it.
+        // The children's exposure and caustic deposits only: their direct light is the
+        // corners' they inherit (or, without them, their parent's mean), as the solve left it.
         .settle =
             [this, &created] {
                 rays_ += exposure_->compute(created);
+                irradiance_->updateDeposits();
                 created.clear();
             },
         .stop = stop};
