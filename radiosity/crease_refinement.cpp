@@ -5,7 +5,6 @@
 #include "radiosity/element_sampling.h"
 
 #include <algorithm>
-#include <array>
 #include <atomic>
 #include <cmath>
 #include <limits>
@@ -24,8 +23,6 @@ constexpr uint32_t kProbeSeed = 0x5bd1e995u;
 
 // The children of a split are at least this large: leaves of kCreaseSize.
 constexpr float kMinChildArea = 0.5f * kCreaseSize * kCreaseSize;
-
-constexpr std::array<Vec3, 3> kCorners = {Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1)};
 
 struct Probe {
     CornerKey key;
@@ -75,8 +72,7 @@ CreaseRefinement CreaseRefinement::run(const Scene& scene, const RadiosityMesh& 
         std::atomic<uint64_t> rays{0};
         parallelForWithProgress(probes.size(), progress, [&](size_t i) {
             const Probe& p = probes[i];
-            const ElementSample x =
-                ElementSampler(scene, mesh, p.leaf).at(insetWeights(kCorners[p.k]));
+            const ElementSample x = ElementSampler(scene, mesh, p.leaf).insetCorner(p.k);
             uint64_t count = 0;
             found[i] =
                 castCornerRays(scene, mesh, x, p.front, kProbeSeed, IVec2(p.key[0], p.key[1]),

@@ -27,6 +27,12 @@ ElementSample ElementSampler::at(const Vec3& w) const {
     return {x.p, x.pError, n_};
 }
 
+ElementSample ElementSampler::insetCorner(size_t k) const {
+    Vec3 w(0.0f);
+    w[static_cast<int>(k)] = 1.0f;
+    return at(insetWeights(w));
+}
+
 ElementSample sampleElement(const Scene& scene, const RadiosityMesh& mesh, int element, Vec2 u) {
     return ElementSampler(scene, mesh, element).at(sampleUniformTriangle(u));
 }

@@ -35,6 +35,9 @@ class ElementSampler {
     ElementSampler(const Scene& scene, const RadiosityMesh& mesh, int element);
     // The point with barycentric weights w of the element's corners.
     ElementSample at(const Vec3& w) const;
+    // Corner k (0, 1 or 2) moved inward by insetWeights(): where a value "at the corner" is
+    // evaluated.
+    ElementSample insetCorner(size_t k) const;
 
   private:
     Scene::Triangle triangle_;

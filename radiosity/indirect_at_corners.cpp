@@ -19,8 +19,6 @@ namespace {
 // never share a sequence.
 constexpr uint32_t kCornerGatherSeed = 0x27d4eb2fu;
 
-constexpr std::array<Vec3, 3> kCorners = {Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1)};
-
 }  // namespace
 
 IndirectAtCorners::IndirectAtCorners(const Scene& scene, const RadiosityMesh& mesh,
@@ -78,7 +76,7 @@ std::vector<IndirectAtCorners::CornerStates> IndirectAtCorners::cornerStates(
             if (!solution.exposed(e, front))
                 continue;
             for (size_t k = 0; k < 3; ++k) {
-                const ElementSample x = points.at(insetWeights(kCorners[k]));
+                const ElementSample x = points.insetCorner(k);
                 states[i][(front ? 0 : 3) + k] = solution.covered(e, x, front, count)
                                                      ? CornerState::Covered
                                                      : CornerState::Exposed;
@@ -109,8 +107,7 @@ std::vector<IndirectAtCorners::Corner> IndirectAtCorners::exposedCorners(
 IndirectAtCorners::Gathered IndirectAtCorners::meanReflected(const Solution& solution,
                                                              const Corner& corner,
                                                              uint64_t& rays) const {
-    const ElementSample x =
-        ElementSampler(scene_, mesh_, corner.leaf).at(insetWeights(kCorners[corner.k]));
+    const ElementSample x = ElementSampler(scene_, mesh_, corner.leaf).insetCorner(corner.k);
     Color sum(0.0f);
     const auto n = static_cast<uint32_t>(raysPerCorner_);
     const float reach = castCornerRays(

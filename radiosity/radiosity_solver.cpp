@@ -50,7 +50,8 @@ constexpr int kSubdivisionPasses = 4;
 constexpr size_t kShownLeavesPerLeaf = 4;
 constexpr size_t kShownMinLeaves = 65536;
 // The most leaves the refinement at creases may leave: this many times the solve's, and at
-// least kShownMinLeaves (the modern hall's creases need 8 times its 39 000 leaves).
+// least kShownMinLeaves (the modern hall's creases need 6 times its 41 000 leaves, 8 times
+// with contact lines).
 constexpr size_t kCreaseLeavesPerLeaf = 16;
 // A reflectance below which a channel's D is not recovered from its reflected light
 // (elementDirect / rho): a tiny rho would blow its rounding up into a huge D.

@@ -12,7 +12,6 @@ namespace penumbra {
 
 namespace {
 
-constexpr std::array<Vec3, 3> kCorners = {Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1)};
 // Where the interpolation is tested: the edge midpoints and the centroid.
 constexpr std::array<Vec3, 4> kTestPoints = {Vec3(0.5f, 0.5f, 0), Vec3(0, 0.5f, 0.5f),
                                              Vec3(0.5f, 0, 0.5f), Vec3(1.0f / 3.0f)};
@@ -70,7 +69,7 @@ void ShownDirect::evaluateCorners(const std::vector<int>& leaves, SolveProgress*
             if (!exposed_(e, side == 0))
                 continue;
             for (size_t k = 0; k < 3; ++k)
-                c[k + 3 * side] = sample(e, sampler.at(insetWeights(kCorners[k])), side == 0, r);
+                c[k + 3 * side] = sample(e, sampler.insetCorner(k), side == 0, r);
         }
         rays += r;
     });
