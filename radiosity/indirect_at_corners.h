@@ -68,8 +68,12 @@ class IndirectAtCorners {
         std::function<Color(int element, bool front)> unseen, fallback;
     };
 
-    // Both must outlive it. `raysPerCorner`: rays per corner and side.
-    IndirectAtCorners(const Scene& scene, const RadiosityMesh& mesh, int raysPerCorner);
+    // Both must outlive it. `raysPerCorner`: rays per corner and side on the solve's leaves.
+    // `firstCreaseLeaf`: the first element the refinement at creases made (crease_refinement.h;
+    // the mesh's element count if it made none); a leaf of it d levels below the solve's leaf
+    // gathers with raysPerCorner / 2^d rays, at least kMinCreaseCornerRays (raysAt()).
+    IndirectAtCorners(const Scene& scene, const RadiosityMesh& mesh, int raysPerCorner,
+                      int firstCreaseLeaf);
 
     // Gathers at the corners of every leaf side that is exposed and reflects; the other leaves'
     // corners take the fallback. Advances `progress`, if any, by one per gather (per vertex and
@@ -114,7 +118,9 @@ class IndirectAtCorners {
                                            const std::vector<int>& leaves);
     std::vector<Corner> exposedCorners(const std::vector<int>& leaves,
                                        const std::vector<CornerStates>& states) const;
-    Gathered meanReflected(const Solution& solution, const Corner& corner, uint64_t& rays) const;
+    Gathered meanReflected(const Solution& solution, const Corner& corner, uint32_t n,
+                           uint64_t& rays) const;
+    int raysAt(int leaf) const;
     // The corners not gathered: covered ones the mean of their side's exposed corners; those of
     // a side with none (covered, hidden under a coincident face, or not reflecting) the
     // fallback, so that the vertex values around them (the bake's) are not pulled down.
@@ -124,6 +130,7 @@ class IndirectAtCorners {
     const Scene& scene_;
     const RadiosityMesh& mesh_;
     int raysPerCorner_;
+    int firstCreaseLeaf_;
     LeafCornerValues corners_;
     std::vector<std::array<float, 6>>
         reach_;  // per leaf corner, as corners_ (a covered corner: the farthest of its leaf side's

@@ -175,6 +175,7 @@ int RadiositySolver::finalGatherRays() const {
 
 void RadiositySolver::refineAtCreases(const std::function<bool()>& stop) {
     const auto start = std::chrono::steady_clock::now();
+    firstCreaseLeaf_ = static_cast<int>(mesh_.elementCount());
     std::vector<int> created;  // the children of a round's splits
     const CreaseRefinement::Solver solver{
         .shown =
@@ -246,7 +247,8 @@ void RadiositySolver::showIndirectAtCorners(SolveProgress* progress) {
     const auto start = std::chrono::steady_clock::now();
     progress_ = progress;
     indirectCorners_ =
-        std::make_unique<IndirectAtCorners>(scene_, mesh_, settings_.indirectAtCorners);
+        std::make_unique<IndirectAtCorners>(scene_, mesh_, settings_.indirectAtCorners,
+                                            std::min(firstCreaseLeaf_, int(mesh_.elementCount())));
     const IndirectAtCorners::Solution solution{
         .exposed = [this](int e, bool side) { return exposure_->fraction(node(e, side)) > 0.0f; },
         .covered =

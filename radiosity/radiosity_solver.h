@@ -94,6 +94,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -242,6 +243,7 @@ class RadiositySolver : public RadiositySolution {
     std::unique_ptr<IndirectAtCorners> indirectCorners_;  // null unless indirectAtCorners > 0
 
     CreaseRefinement creases_;
+    int firstCreaseLeaf_ = std::numeric_limits<int>::max();  // the first element it made
     int rounds_ = 0;
     bool stoppedRefining_ = false;      // the deadline ended the refinement
     bool abandoned_ = false;            // ... during the initial linking, with OnTimeUp::Abandon
