@@ -309,5 +309,36 @@ TEST(CreaseRefinement, TheFloorShowsTheDipAtTheWallsFoot) {
     }
 }
 
+// The corners of the leaves the refinement made gather with fewer rays (IndirectAtCorners::raysAt:
+// half as many per level below the solve's leaf, at least 32), every corner of a solve's leaf with
+// all of its rays: there the gather shows the very values of one that gives every corner 256 rays
+// (same seeds, same rays), and the whole gather casts far fewer rays than that one.
+TEST(CreaseRefinement, CreaseCornersGatherFewerRaysThanTheSolvesLeaves) {
+    RefinedWallAndFloor r;
+    r.refine(1u << 20);
+    IndirectAtCorners scaled(*r.s.scene, *r.s.mesh, 256, r.firstCreaseLeaf);
+    IndirectAtCorners everywhere(*r.s.scene, *r.s.mesh, 256,
+                                 static_cast<int>(r.s.mesh->elementCount()));
+    scaled.gather(r.solution());
+    everywhere.gather(r.solution());
+    int solveLeaves = 0, creaseCornersChanged = 0;
+    for (const int e : r.s.mesh->leafElements()) {
+        const std::array<Color, 3> a = scaled.corners(e, true), b = everywhere.corners(e, true);
+        if (e < r.firstCreaseLeaf) {
+            ++solveLeaves;
+            for (size_t k = 0; k < 3; ++k)
+                EXPECT_EQ(a[k], b[k]) << e << ", corner " << k;
+        } else {
+            for (size_t k = 0; k < 3; ++k)
+                creaseCornersChanged += a[k] != b[k];
+        }
+    }
+    std::cout << scaled.rays() << " rays against " << everywhere.rays() << "; " << solveLeaves
+              << " solve leaves, " << creaseCornersChanged << " crease corners changed\n";
+    EXPECT_GT(solveLeaves, 10);
+    EXPECT_GT(creaseCornersChanged, 100);
+    EXPECT_LT(scaled.rays(), everywhere.rays() / 2);
+}
+
 }  // namespace
 }  // namespace penumbra::test
