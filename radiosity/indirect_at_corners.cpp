@@ -39,7 +39,8 @@ IndirectAtCorners::IndirectAtCorners(const Scene& scene, const RadiosityMesh& me
 // sampling, Neyman 1934, "On the Two Different Aspects of the Representative Method", with the
 // squared error's weight s^2). The solve's leaves keep raysPerCorner_; a leaf the refinement at
 // creases made d levels below them (each level halves the size) gathers with raysPerCorner_ / 2^d.
-// On the modern hall, whose crease leaves are 6 times the solve's, this is most of the gather.
+// On the modern hall, where the refinement at creases makes six times as many leaves as the
+// solve's, the gather casts 41 M rays instead of 102 M (docs/radiosity.md).
 int IndirectAtCorners::raysAt(int leaf) const {
     if (leaf < firstCreaseLeaf_)
         return raysPerCorner_;
