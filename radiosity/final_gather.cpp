@@ -98,9 +98,8 @@ double FinalGather::pass(const std::vector<int>& leaves, SolveProgress* progress
 
 Color reflectedAt(const Scene& scene, const RadiosityMesh& mesh, const ElementExposure& exposure,
                   const RadianceHierarchy& radiance, const MeshedHit& y) {
-    const int leaf = mesh.locate(y.hit.mesh, y.hit.triangle, y.hit.barycentric).element;
     const auto [e, side] =
-        leafSideSeenAt(scene, mesh, exposure.coincident(), leaf, y.front, y.hit.p);
+        leafSideSeenAt(scene, mesh, exposure.coincident(), y.point.element, y.front, y.hit.p);
     const int n = node(e, side);
     return glm::max(radiance.L(n) - radiance.emission(n), Color(0.0f));
 }

@@ -18,8 +18,9 @@ std::optional<MeshedHit> firstMeshedHit(const Scene& scene, const RadiosityMesh&
                 *escaped = transmittance;
             return std::nullopt;
         }
-        if (mesh.locate(hit->mesh, hit->triangle, hit->barycentric).element >= 0)
-            return MeshedHit{*hit, hit->frontFace(ray.d), transmittance};
+        const ElementPoint point = mesh.locate(hit->mesh, hit->triangle, hit->barycentric);
+        if (point.element >= 0)
+            return MeshedHit{*hit, hit->frontFace(ray.d), transmittance, point};
         transmittance *= scene.straightTransmittance(*hit, scene.bsdf(*hit), -ray.d);
         if (!(maxComponent(transmittance) > 0.0f))
             return std::nullopt;

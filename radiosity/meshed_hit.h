@@ -8,19 +8,20 @@
 #include "core/interaction.h"
 #include "core/math.h"
 #include "core/ray.h"
+#include "radiosity/radiosity_mesh.h"
 
 #include <cstdint>
 #include <optional>
 
 namespace penumbra {
 
-class RadiosityMesh;
 class Scene;
 
 struct MeshedHit {
     SurfaceHit hit;
     bool front = true;          // the side of the surface the ray meets
     Color transmittance{1.0f};  // of the layers passed on the way
+    ElementPoint point;         // the leaf that holds the hit (RadiosityMesh::locate), found once
 };
 
 // Nothing when the ray leaves the scene, meets a surface the mesh does not hold and that lets no
