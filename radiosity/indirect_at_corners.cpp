@@ -19,10 +19,6 @@ namespace {
 // never share a sequence.
 constexpr uint32_t kCornerGatherSeed = 0x27d4eb2fu;
 
-// The fewest rays a corner of a leaf the refinement at creases made gathers with: as many as its
-// probe cast (crease_refinement.cpp).
-constexpr int kMinCreaseCornerRays = 32;
-
 }  // namespace
 
 IndirectAtCorners::IndirectAtCorners(const Scene& scene, const RadiosityMesh& mesh,
@@ -38,7 +34,8 @@ IndirectAtCorners::IndirectAtCorners(const Scene& scene, const RadiosityMesh& me
 // number of rays, is least at n_i proportional to s_i (the optimal allocation of stratified
 // sampling, Neyman 1934, "On the Two Different Aspects of the Representative Method", with the
 // squared error's weight s^2). The solve's leaves keep raysPerCorner_; a leaf the refinement at
-// creases made d levels below them (each level halves the size) gathers with raysPerCorner_ / 2^d.
+// creases made d levels below them (each level halves the size) gathers with raysPerCorner_ / 2^d,
+// but with no fewer rays than its probe cast (CreaseRefinement::kProbeRays).
 // On the modern hall, where the refinement at creases makes six times as many leaves as the
 // solve's, the gather casts 41 M rays instead of 102 M (docs/radiosity.md).
 int IndirectAtCorners::raysAt(int leaf) const {
@@ -48,7 +45,8 @@ int IndirectAtCorners::raysAt(int leaf) const {
     while (solveLeaf >= firstCreaseLeaf_)
         solveLeaf = mesh_.parent(solveLeaf);
     const int depth = std::min(mesh_.level(leaf) - mesh_.level(solveLeaf), 30);
-    return std::max(raysPerCorner_ >> depth, std::min(raysPerCorner_, kMinCreaseCornerRays));
+    const int fewest = std::min(raysPerCorner_, static_cast<int>(CreaseRefinement::kProbeRays));
+    return std::max(raysPerCorner_ >> depth, fewest);
 }
 
 void IndirectAtCorners::gather(const Solution& solution, SolveProgress* progress) {

@@ -70,8 +70,8 @@ class IndirectAtCorners {
 
     // Both must outlive it. `raysPerCorner`: rays per corner and side on the solve's leaves.
     // `firstCreaseLeaf`: the first element the refinement at creases made (crease_refinement.h;
-    // the mesh's element count if it made none); a leaf of it d levels below the solve's leaf
-    // gathers with raysPerCorner / 2^d rays, at least kMinCreaseCornerRays (raysAt()).
+    // any larger id if it made none); a leaf of it d levels below the solve's leaf gathers with
+    // raysPerCorner / 2^d rays, at least CreaseRefinement::kProbeRays (raysAt()).
     IndirectAtCorners(const Scene& scene, const RadiosityMesh& mesh, int raysPerCorner,
                       int firstCreaseLeaf);
 

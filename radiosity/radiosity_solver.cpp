@@ -246,9 +246,8 @@ void RadiositySolver::showIndirectAtCorners(SolveProgress* progress) {
         return;
     const auto start = std::chrono::steady_clock::now();
     progress_ = progress;
-    indirectCorners_ =
-        std::make_unique<IndirectAtCorners>(scene_, mesh_, settings_.indirectAtCorners,
-                                            std::min(firstCreaseLeaf_, int(mesh_.elementCount())));
+    indirectCorners_ = std::make_unique<IndirectAtCorners>(
+        scene_, mesh_, settings_.indirectAtCorners, firstCreaseLeaf_);
     const IndirectAtCorners::Solution solution{
         .exposed = [this](int e, bool side) { return exposure_->fraction(node(e, side)) > 0.0f; },
         .covered =

@@ -243,7 +243,7 @@ class RadiositySolver : public RadiositySolution {
     std::unique_ptr<IndirectAtCorners> indirectCorners_;  // null unless indirectAtCorners > 0
 
     CreaseRefinement creases_;
-    int firstCreaseLeaf_ = std::numeric_limits<int>::max();  // the first element it made
+    int firstCreaseLeaf_ = std::numeric_limits<int>::max();  // the first element it made, if run
     int rounds_ = 0;
     bool stoppedRefining_ = false;      // the deadline ended the refinement
     bool abandoned_ = false;            // ... during the initial linking, with OnTimeUp::Abandon
