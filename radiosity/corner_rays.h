@@ -36,7 +36,8 @@ inline CornerKey cornerKey(const RadiosityMesh& mesh, int leaf, bool front, size
             quantized(n.y), quantized(n.z)};
 }
 
-// Casts n rays from x on the side `front` and calls onHit(hit) for each that meets the mesh.
+// Casts n rays from x on the side `front` and calls onHit(hit, sampler) for each that meets the
+// mesh, the sampler at that ray's sample for the dimensions after its direction's.
 // Returns the harmonic mean of the rays' lengths, escaped rays counting as infinitely long: how
 // far from x the light it gathers holds (the validity radius of Ward, Rubinstein and Clear 1988,
 // "A Ray Tracing Solution for Diffuse Interreflection"); infinity when no ray meets anything.
@@ -55,7 +56,7 @@ float castCornerRays(const Scene& scene, const RadiosityMesh& mesh, const Elemen
             firstMeshedHit(scene, mesh, Ray{offsetRayOrigin(x.p, x.pError, x.n, w), w}, rays);
         if (!y)
             continue;
-        onHit(*y);
+        onHit(*y, sampler);
         inverseDistances += 1.0 / std::max(double(glm::length(y->hit.p - x.p)), 1e-6);
     }
     return inverseDistances > 0.0 ? static_cast<float>(n / inverseDistances)

@@ -76,7 +76,7 @@ CreaseRefinement CreaseRefinement::run(const Scene& scene, const RadiosityMesh& 
             uint64_t count = 0;
             found[i] =
                 castCornerRays(scene, mesh, x, p.front, kProbeSeed, IVec2(p.key[0], p.key[1]),
-                               kProbeRays, count, [](const MeshedHit&) {});
+                               kProbeRays, count, [](const MeshedHit&, Sampler&) {});
             rays += count;
         });
         result.rays += rays;

@@ -22,12 +22,13 @@ constexpr uint32_t kFinalGatherSeed = 0xc2b2ae35u;
 }  // namespace
 
 FinalGather::FinalGather(const Scene& scene, const RadiosityMesh& mesh,
-                         const ElementExposure& exposure, RadianceHierarchy& radiance,
-                         int raysPerSide)
+                         const ElementExposure& exposure, const DirectIrradiance& irradiance,
+                         RadianceHierarchy& radiance, int raysPerSide)
     : scene_(scene),
       mesh_(mesh),
       exposure_(exposure),
       radiance_(radiance),
+      gathered_(scene, mesh, exposure, irradiance, radiance),
       raysPerSide_(raysPerSide) {}
 
 // The final gather: a Monte Carlo gather of each leaf side's indirect light from the solution, as
@@ -39,7 +40,8 @@ FinalGather::FinalGather(const Scene& scene, const RadiosityMesh& mesh,
 // cosine-distributed about its normal,
 //     G = rho / N sum_k T_k L_r(y_k),
 // y_k the first surface the mesh holds along the ray (meshed_hit.h, through thin glass of
-// transmittance T_k) and L_r the reflected radiance of the leaf side there (reflectedAt), is an
+// transmittance T_k) and L_r the reflected radiance the surface there sends back along the ray
+// (GatheredRadiance::seen: its leaf side's, the glossy lobes followed), is an
 // unbiased estimate of the light the side reflects of the others' reflected light, its indirect
 // part (the first reflection of the sources, elementDirect, stays the links': an emitter seen by a
 // few cosine rays would make G far noisier).
@@ -96,14 +98,6 @@ double FinalGather::pass(const std::vector<int>& leaves, SolveProgress* progress
     return norm > 0.0 ? change / norm : 0.0;
 }
 
-Color reflectedAt(const Scene& scene, const RadiosityMesh& mesh, const ElementExposure& exposure,
-                  const RadianceHierarchy& radiance, const MeshedHit& y) {
-    const auto [e, side] =
-        leafSideSeenAt(scene, mesh, exposure.coincident(), y.point.element, y.front, y.hit.p);
-    const int n = node(e, side);
-    return glm::max(radiance.L(n) - radiance.emission(n), Color(0.0f));
-}
-
 // G of pass() for every exposed side of `leaves` that reflects, per node; -1 elsewhere.
 std::vector<Color> FinalGather::gatherIndirect(const std::vector<int>& leaves,
                                                SolveProgress* progress) {
@@ -135,7 +129,7 @@ std::vector<Color> FinalGather::gatherIndirect(const std::vector<int>& leaves,
                 const std::optional<MeshedHit> y = firstMeshedHit(
                     scene_, mesh_, Ray{offsetRayOrigin(x.p, x.pError, x.n, w), w}, count);
                 if (y)
-                    sum += y->transmittance * reflectedAt(scene_, mesh_, exposure_, radiance_, *y);
+                    sum += y->transmittance * gathered_.seen(*y, sampler, count);
             }
             if (used > 0)
                 gathered[static_cast<size_t>(nd)] = rho * sum / static_cast<float>(used);

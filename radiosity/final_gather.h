@@ -7,6 +7,7 @@
 
 #include "core/math.h"
 #include "radiosity/element_exposure.h"
+#include "radiosity/gathered_radiance.h"
 #include "radiosity/meshed_hit.h"
 #include "radiosity/radiance_hierarchy.h"
 #include "radiosity/radiosity_mesh.h"
@@ -19,19 +20,12 @@ namespace penumbra {
 
 class Scene;
 
-// The reflected radiance (cd/m², emission left out) of the leaf side a gather ray meets, flat as
-// the solution holds it (the Gouraud-interpolated values of the view mix the sides of a crease at
-// its vertices, and their mean over an element is not the element's, which the fluxes and the
-// links use).
-Color reflectedAt(const Scene& scene, const RadiosityMesh& mesh, const ElementExposure& exposure,
-                  const RadianceHierarchy& radiance, const MeshedHit& hit);
-
 class FinalGather {
   public:
     // All must outlive it. `raysPerSide`: rays per leaf side, cosine-distributed from stratified
     // points of it.
     FinalGather(const Scene& scene, const RadiosityMesh& mesh, const ElementExposure& exposure,
-                RadianceHierarchy& radiance, int raysPerSide);
+                const DirectIrradiance& irradiance, RadianceHierarchy& radiance, int raysPerSide);
 
     // One pass of the defect correction over `leaves`: gathers, then adds to the correction of
     // every leaf side the change of its patch side's. Advances `progress`, if any, by one per
@@ -46,6 +40,7 @@ class FinalGather {
     const RadiosityMesh& mesh_;
     const ElementExposure& exposure_;
     RadianceHierarchy& radiance_;
+    GatheredRadiance gathered_;
     int raysPerSide_;
     uint64_t rays_ = 0;
 };

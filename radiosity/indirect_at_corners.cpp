@@ -140,7 +140,9 @@ IndirectAtCorners::Gathered IndirectAtCorners::meanReflected(const Solution& sol
     Color sum(0.0f);
     const float reach = castCornerRays(
         scene_, mesh_, x, corner.front, kCornerGatherSeed, IVec2(corner.key[0], corner.key[1]), n,
-        rays, [&](const MeshedHit& y) { sum += y.transmittance * solution.reflectedAt(y); });
+        rays, [&](const MeshedHit& y, Sampler& sampler) {
+            sum += y.transmittance * solution.seenAt(y, sampler, rays);
+        });
     return {sum / static_cast<float>(n), reach};
 }
 

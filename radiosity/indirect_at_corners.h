@@ -11,7 +11,8 @@
 // estimator (final_gather.cpp) at one point:
 //     I(x) = rho / N sum_k T_k L_r(y_k),
 // w_k cosine-distributed about the side's normal from an Owen-scrambled (0,2)-sequence, y_k the
-// first meshed surface along the ray and L_r the solution's reflected radiance of its leaf side.
+// first meshed surface along the ray and L_r the reflected radiance the solution sends back along
+// it (GatheredRadiance::seen, gathered_radiance.h: its leaf side's, the glossy lobes followed).
 // The corners that several leaves have at one mesh vertex, on one side of one plane, are gathered
 // once (from the first leaf's corner), so that they show one value and the interpolation stays
 // continuous across the leaves' edges; a crease keeps a value per plane. Every corner is probed
@@ -56,15 +57,16 @@ struct ElementSample;
 class IndirectAtCorners {
   public:
     // What gather() reads of the solver: whether an element side shows light (is exposed),
-    // whether the side is covered at a point (adding its probe rays), the reflected radiance of
-    // the leaf side a ray meets (cd/m², emission left out), the indirect light a side reflects
+    // whether the side is covered at a point (adding its probe rays), the reflected radiance a
+    // ray's hit sends back along it (cd/m², emission left out; drawing from the ray's sampler and
+    // adding the rays it casts), the indirect light a side reflects
     // that rays cannot gather (what the specular transfer carried through solid glass), added
     // to its gathered corners, and the value shown at a side with no exposed corner.
     struct Solution {
         std::function<bool(int element, bool front)> exposed;
         std::function<bool(int element, const ElementSample& x, bool front, uint64_t& rays)>
             covered;
-        std::function<Color(const MeshedHit& hit)> reflectedAt;
+        std::function<Color(const MeshedHit& hit, Sampler& sampler, uint64_t& rays)> seenAt;
         std::function<Color(int element, bool front)> unseen, fallback;
     };
 

@@ -20,7 +20,7 @@ std::optional<MeshedHit> firstMeshedHit(const Scene& scene, const RadiosityMesh&
         }
         const ElementPoint point = mesh.locate(hit->mesh, hit->triangle, hit->barycentric);
         if (point.element >= 0)
-            return MeshedHit{*hit, hit->frontFace(ray.d), transmittance, point};
+            return MeshedHit{*hit, hit->frontFace(ray.d), transmittance, point, ray.d};
         transmittance *= scene.straightTransmittance(*hit, scene.bsdf(*hit), -ray.d);
         if (!(maxComponent(transmittance) > 0.0f))
             return std::nullopt;

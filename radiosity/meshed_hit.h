@@ -22,6 +22,7 @@ struct MeshedHit {
     bool front = true;          // the side of the surface the ray meets
     Color transmittance{1.0f};  // of the layers passed on the way
     ElementPoint point;         // the leaf that holds the hit (RadiosityMesh::locate), found once
+    Vec3 direction{0.0f};       // of the ray that met it
 };
 
 // Nothing when the ray leaves the scene, meets a surface the mesh does not hold and that lets no

@@ -63,7 +63,7 @@ struct RadiosityMesh::Impl {
     struct MaterialValues {
         bool rhoVaries = false;
         bool emissionVaries = false;
-        std::optional<Color> rho, Le;
+        std::optional<Color> rho, rhoGlossy, Le;
     };
 
     PolyMesh mesh;
@@ -394,6 +394,10 @@ void RadiosityMesh::setMaterial(Element& e) {
     const auto rhoAt = [&](const Vec3& b) {
         return scene_->bsdf(scene_->surfaceAt(e.mesh, e.triangle, b)).diffuseGlossyReflectance();
     };
+    const auto rhoGlossyAt = [&](const Vec3& b) {
+        const Bsdf bsdf = scene_->bsdf(scene_->surfaceAt(e.mesh, e.triangle, b));
+        return bsdf.diffuseGlossyReflectance() - bsdf.matteReflectance();
+    };
     const auto LeAt = [&](const Vec3& b) {
         return scene_->emitted(scene_->surfaceAt(e.mesh, e.triangle, b), e.normal);
     };
@@ -409,10 +413,14 @@ void RadiosityMesh::setMaterial(Element& e) {
     };
     if (values.rhoVaries) {
         e.rho = mean(rhoAt);
+        e.rhoGlossy = mean(rhoGlossyAt);
     } else {
-        if (!values.rho)
+        if (!values.rho) {
             values.rho = rhoAt(centroid);
+            values.rhoGlossy = rhoGlossyAt(centroid);
+        }
         e.rho = *values.rho;
+        e.rhoGlossy = *values.rhoGlossy;
     }
     if (values.emissionVaries) {
         e.Le = mean(LeAt);

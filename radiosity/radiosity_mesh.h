@@ -198,6 +198,9 @@ class RadiosityMesh {
     // roughness, specular or specular colour texture), the mean over four points: the centroid
     // and the midpoints between it and each corner.
     const Color& rho(int element) const { return at(element).rho; }
+    // The rough glossy lobes' part of rho (Bsdf::diffuseGlossyReflectance() less
+    // matteReflectance()), averaged as rho: zero on a Lambertian surface.
+    const Color& rhoGlossy(int element) const { return at(element).rhoGlossy; }
     // Emitted radiance towards the front (Scene::emitted), averaged like rho when the emission is
     // textured; the back emits nothing unless twoSided().
     const Color& Le(int element) const { return at(element).Le; }
@@ -245,6 +248,7 @@ class RadiosityMesh {
         Vec3 normal{0.0f};
         float area = 0.0f;
         Color rho{0.0f};
+        Color rhoGlossy{0.0f};
         Color Le{0.0f};
         uint32_t mesh = 0;
         uint32_t triangle = 0;

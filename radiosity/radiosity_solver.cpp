@@ -86,8 +86,8 @@ RadiositySolver::RadiositySolver(const Scene& scene, RadiosityMesh& mesh,
                                       *transfer_, *links_, *radiance_, split, settle);
     iteration_ = std::make_unique<GatherIteration>(scene_, mesh_, *links_, *radiance_,
                                                    settings_.maxIterations);
-    finalGather_ =
-        std::make_unique<FinalGather>(scene_, mesh_, *exposure_, *radiance_, finalGatherRays());
+    finalGather_ = std::make_unique<FinalGather>(scene_, mesh_, *exposure_, *irradiance_,
+                                                 *radiance_, finalGatherRays());
     resizeArrays();
 }
 
@@ -254,10 +254,10 @@ void RadiositySolver::showIndirectAtCorners(SolveProgress* progress) {
             [this](int e, const ElementSample& x, bool side, uint64_t& rays) {
                 return exposure_->covered(e, x, side ? x.n : -x.n, rays);
             },
-        .reflectedAt =
-            [this](const MeshedHit& y) {
-                return reflectedAt(scene_, mesh_, *exposure_, *radiance_, y);
-            },
+        .seenAt = [gathered =
+                       GatheredRadiance(scene_, mesh_, *exposure_, *irradiance_, *radiance_)](
+                      const MeshedHit& y, Sampler& sampler,
+                      uint64_t& rays) { return gathered.seen(y, sampler, rays); },
         .unseen =
             [this](int e, bool side) {
                 return mesh_.rho(e) * irradiance_->transferredD(node(e, side));

@@ -73,8 +73,8 @@ WallAndFloor wallAndFloor(float patchEdgeLength = 0.1f) {
 IndirectAtCorners::Solution wallLitSolution() {
     return {.exposed = [](int, bool front) { return front; },
             .covered = [](int, const ElementSample&, bool, uint64_t&) { return false; },
-            .reflectedAt =
-                [](const MeshedHit& y) {
+            .seenAt =
+                [](const MeshedHit& y, Sampler&, uint64_t&) {
                     return y.hit.ng.x > 0.5f && y.front ? Color(kWallRadiance) : Color(0.0f);
                 },
             .unseen = [](int, bool) { return Color(0.0f); },
