@@ -11,12 +11,13 @@
 // the glossy lobes one ray further, reading the solution (emission included) where that ray lands:
 // a one-sample estimate of the glossy part of the reflection integral (Kajiya 1986, "The Rendering
 // Equation") with the solution standing in for the radiance one bounce on, as the hybrid's reuse
-// vertex follows its glossy lobes (docs/light-paths.md). What the mesh's surfaces cannot be met by,
-// the punctual lights, the environment and the flux deposited through specular surfaces
-// (DirectIrradiance's D), stays spread as Lambertian. The lobe is followed with the probability of
-// its largest channel's share and weighed by its inverse (Russian roulette, Arvo and Kirk 1990,
-// "Particle Transport and Image Synthesis"): a wall whose rough coat reflects little casts an
-// extra ray at few of its hits, a metal at every one.
+// vertex follows its glossy lobes (docs/light-paths.md). The light the surface received from
+// elsewhere than the mesh's surfaces, which a ray along the lobe cannot meet (the punctual lights,
+// the environment, the flux deposited through specular surfaces: DirectIrradiance's D), stays
+// spread as Lambertian. The lobe is followed with the probability of its largest channel's share
+// and weighed by its inverse (Russian roulette, Arvo and Kirk 1990, "Particle Transport and Image
+// Synthesis"): a wall whose rough coat reflects little casts an extra ray at few of its hits, a
+// metal at every one.
 #pragma once
 
 #include "core/math.h"
