@@ -1,7 +1,7 @@
 // The radiosity solution's gathers follow the rough glossy lobes of the surfaces they meet
 // (radiosity/gathered_radiance.h). A corridor whose one end is a lamp (an emitting wall) and whose
 // floor is polished dark tiles (a dielectric coat of roughness 0.1 over a base of 0.05): seen at
-// grazing angles from the far end, the floor mirrors the lamp (Fresnel reflectance about 0.4 at
+// grazing angles from the far end, the floor mirrors the lamp (Fresnel reflectance about a half at
 // 83 degrees), where a solution that spreads the coat's reflection as Lambertian shows it as dark
 // as its tiles. The side walls and the ceiling are black, so the far wall's indirect light is
 // mostly that image. The distribution preview shows it from the solution's corner gathers; its
@@ -72,7 +72,9 @@ double previewOverReference(const std::string& minElementArea) {
     std::ofstream(script) << "scene = \"corridor.gltf\"\n"
                           << "[[pass]]\ntype = \"radiosity\"\nmin_element_area = " << minElementArea
                           << "\n[[pass]]\ntype = \"distribution\"\n";
-    const std::string options = " --width 48 --height 48 --seed 5 --aov indirect";
+    const std::string size = std::to_string(kSize);
+    const std::string options =
+        " --width " + size + " --height " + size + " --seed 5 --aov indirect";
     const Image preview = renderImage(script, dir.file("distribution.exr"), "--spp 16" + options);
     const Image reference =
         renderImage(scene, dir.file("reference.exr"), "--pipeline reference --spp 1024" + options);
