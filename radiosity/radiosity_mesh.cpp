@@ -56,6 +56,11 @@ bool emissionVaries(const Material& m) {
     return m.isEmissive() && m.emissiveTexture.valid();
 }
 
+// An element's reflectances from one BSDF evaluation: column 0 rho
+// (Bsdf::diffuseGlossyReflectance()), column 1 its rough glossy lobes' part; a matrix, so that
+// setMaterial's mean sums them as it sums colours.
+using Reflectances = glm::mat2x3;
+
 }  // namespace
 
 struct RadiosityMesh::Impl {
@@ -63,7 +68,8 @@ struct RadiosityMesh::Impl {
     struct MaterialValues {
         bool rhoVaries = false;
         bool emissionVaries = false;
-        std::optional<Color> rho, rhoGlossy, Le;
+        std::optional<Reflectances> rho;
+        std::optional<Color> Le;
     };
 
     PolyMesh mesh;
@@ -392,11 +398,9 @@ void RadiosityMesh::syncPositions() {
 void RadiosityMesh::setMaterial(Element& e) {
     Impl::MaterialValues& values = impl_->materials[scene_->meshes()[e.mesh].material];
     const auto rhoAt = [&](const Vec3& b) {
-        return scene_->bsdf(scene_->surfaceAt(e.mesh, e.triangle, b)).diffuseGlossyReflectance();
-    };
-    const auto rhoGlossyAt = [&](const Vec3& b) {
         const Bsdf bsdf = scene_->bsdf(scene_->surfaceAt(e.mesh, e.triangle, b));
-        return bsdf.diffuseGlossyReflectance() - bsdf.matteReflectance();
+        const Color rho = bsdf.diffuseGlossyReflectance();
+        return Reflectances(rho, rho - bsdf.matteReflectance());
     };
     const auto LeAt = [&](const Vec3& b) {
         return scene_->emitted(scene_->surfaceAt(e.mesh, e.triangle, b), e.normal);
@@ -406,22 +410,21 @@ void RadiosityMesh::setMaterial(Element& e) {
     // texture averaged per element.
     const Vec3 centroid = (e.barycentric[0] + e.barycentric[1] + e.barycentric[2]) / 3.0f;
     const auto mean = [&](const auto& valueAt) {
-        Color sum = valueAt(centroid);
+        auto sum = valueAt(centroid);
         for (const Vec3& corner : e.barycentric)
             sum += valueAt(0.5f * (centroid + corner));
         return 0.25f * sum;
     };
+    Reflectances rho;
     if (values.rhoVaries) {
-        e.rho = mean(rhoAt);
-        e.rhoGlossy = mean(rhoGlossyAt);
+        rho = mean(rhoAt);
     } else {
-        if (!values.rho) {
+        if (!values.rho)
             values.rho = rhoAt(centroid);
-            values.rhoGlossy = rhoGlossyAt(centroid);
-        }
-        e.rho = *values.rho;
-        e.rhoGlossy = *values.rhoGlossy;
+        rho = *values.rho;
     }
+    e.rho = rho[0];
+    e.rhoGlossy = rho[1];
     if (values.emissionVaries) {
         e.Le = mean(LeAt);
     } else {

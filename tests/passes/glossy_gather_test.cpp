@@ -7,7 +7,7 @@
 // mostly that image. The distribution preview shows it from the solution's corner gathers; its
 // `indirect` layer over the far wall is compared with the path tracer's (an independent
 // estimator).
-#include "core/image_io.h"
+#include "core/math.h"
 #include "tests/support/cli_runner.h"
 #include "tests/support/gltf_builder.h"
 
@@ -54,8 +54,8 @@ double indirectMean(const Image& image) {
     double sum = 0.0;
     for (int y = 0; y < image.height(); ++y) {
         for (int x = 0; x < image.width(); ++x) {
-            sum += 0.2126 * image.at(x, y, r) + 0.7152 * image.at(x, y, r + 1) +
-                   0.0722 * image.at(x, y, r + 2);
+            sum +=
+                luminance(Color(image.at(x, y, r), image.at(x, y, r + 1), image.at(x, y, r + 2)));
         }
     }
     return sum / (image.width() * image.height());
