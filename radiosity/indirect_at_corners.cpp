@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <cmath>
 #include <tuple>
 
@@ -49,7 +50,8 @@ int IndirectAtCorners::raysAt(int leaf) const {
     return std::max(raysPerCorner_ >> depth, fewest);
 }
 
-void IndirectAtCorners::gather(const Solution& solution, SolveProgress* progress) {
+bool IndirectAtCorners::gather(const Solution& solution, SolveProgress* progress,
+                               Deadline deadline) {
     corners_.assign(mesh_.elementCount());
     reach_.assign(mesh_.elementCount(), {});
     means_.assign(mesh_.elementCount(), {});
@@ -66,8 +68,9 @@ void IndirectAtCorners::gather(const Solution& solution, SolveProgress* progress
         if (i == 0 || corners[i].key != corners[i - 1].key)
             runs.push_back(i);
     runs.push_back(corners.size());
+    const size_t gathers = runs.size() - 1;
     std::atomic<uint64_t> rays{0};
-    parallelForWithProgress(runs.size() - 1, progress, [&](size_t r) {
+    const auto gatherRun = [&](size_t r) {
         // The run's largest leaf decides: the value is shown over it too.
         int n = 0;
         for (size_t i = runs[r]; i < runs[r + 1]; ++i)
@@ -82,13 +85,40 @@ void IndirectAtCorners::gather(const Solution& solution, SolveProgress* progress
             reach_[static_cast<size_t>(corner.leaf)][(corner.front ? 0 : 3) + corner.k] = g.reach;
         }
         rays += count;
-    });
+    };
+    if (deadline) {
+        // Every kProbeStride-th gather first, with the rays asked, for the time a gather takes;
+        // the others then with as many rays as end by the deadline, no more than asked.
+        const size_t probes = (gathers + kProbeStride - 1) / kProbeStride;
+        const auto probeStart = std::chrono::steady_clock::now();
+        parallelForWithProgress(probes, progress, [&](size_t p) { gatherRun(p * kProbeStride); });
+        const auto now = std::chrono::steady_clock::now();
+        const double perGather =
+            std::chrono::duration<double>(now - probeStart).count() / std::max<size_t>(probes, 1);
+        const double secondsLeft = std::chrono::duration<double>(*deadline - now).count();
+        const double projected = perGather * static_cast<double>(gathers - probes);
+        if (projected > secondsLeft) {
+            raysPerCorner_ =
+                static_cast<int>(raysPerCorner_ * std::max(secondsLeft, 0.0) / projected);
+            if (raysPerCorner_ < kFewestBudgetedRays) {
+                rays_ += rays;
+                return false;
+            }
+        }
+        parallelForWithProgress(gathers - probes, progress, [&](size_t i) {
+            // The i-th gather that was not a probe.
+            gatherRun(i / (kProbeStride - 1) * kProbeStride + 1 + i % (kProbeStride - 1));
+        });
+    } else {
+        parallelForWithProgress(gathers, progress, gatherRun);
+    }
     fillCovered(solution, leaves, states);
     corners_.anchorTVertices(mesh_, solution.exposed);
     for (const int e : leaves)
         for (const bool front : {true, false})
             means_[static_cast<size_t>(e)][front ? 0 : 1] = solution.fallback(e, front);
     rays_ += rays;
+    return true;
 }
 
 std::vector<IndirectAtCorners::CornerStates> IndirectAtCorners::cornerStates(

@@ -241,7 +241,8 @@ void RadiositySolver::showDirectAtCorners() {
     secondsShownDirect_ = secondsSince(start);
 }
 
-void RadiositySolver::showIndirectAtCorners(SolveProgress* progress) {
+void RadiositySolver::showIndirectAtCorners(SolveProgress* progress,
+                                            LinkRefiner::Deadline deadline) {
     if (settings_.indirectAtCorners <= 0)
         return;
     const auto start = std::chrono::steady_clock::now();
@@ -265,8 +266,13 @@ void RadiositySolver::showIndirectAtCorners(SolveProgress* progress) {
         .fallback =
             exposure_->shownValues([this](int e, bool side) { return elementIndirect(e, side); })};
     beginStage("indirect light at the corners", mesh_.leafCount());
-    indirectCorners_->gather(solution, progress_);
-    endStage(std::to_string(indirectCorners_->rays()) + " rays");
+    if (indirectCorners_->gather(solution, progress_, deadline)) {
+        endStage(std::to_string(indirectCorners_->rays()) + " rays, " +
+                 std::to_string(indirectCorners_->raysPerCorner()) + " per corner");
+    } else {
+        endStage("skipped: too few rays per corner before the time limit");
+        indirectCorners_.reset();
+    }
     computeVertexValues();
     progress_ = nullptr;
     const double seconds = secondsSince(start);
@@ -636,6 +642,8 @@ PassStats RadiositySolver::stats() const {
             {"seconds_direct_at_corners", formatStat(secondsShownDirect_)},
             {"indirect_at_corners_rays",
              std::to_string(indirectCorners_ ? indirectCorners_->rays() : 0)},
+            {"indirect_at_corners_rays_per_corner",
+             std::to_string(indirectCorners_ ? indirectCorners_->raysPerCorner() : 0)},
             {"seconds_indirect_at_corners", formatStat(secondsIndirectAtCorners_)},
             {"seconds", formatStat(secondsTotal_)},
             {"peak_memory_mib_direct", formatStat(peakDirect_)},

@@ -159,8 +159,11 @@ class RadiositySolver : public RadiositySolution {
     // RadiositySettings::indirectAtCorners rays, for radiance() and indirectRadiance() to show;
     // nothing if that is 0. For the owner to call once the solution is final, after solve() and
     // any specular transfer (a transfer drops the corners: they saw the solution before it).
-    // Reports its stage to `progress` if given.
-    void showIndirectAtCorners(SolveProgress* progress = nullptr);
+    // With a deadline, fewer rays per corner if the asked count would end after it, and no
+    // corners if too few would (IndirectAtCorners::gather). Reports its stage to `progress` if
+    // given.
+    void showIndirectAtCorners(SolveProgress* progress = nullptr,
+                               LinkRefiner::Deadline deadline = std::nullopt);
 
     // Radiance (cd/m²) leaving the surface at barycentric b of scene triangle (mesh, triangle)
     // on its front (or back) side: the Gouraud interpolation of the reflected part

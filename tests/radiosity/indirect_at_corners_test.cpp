@@ -22,6 +22,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <iostream>
 #include <map>
@@ -189,6 +190,43 @@ TEST(IndirectAtCorners, ACornerCountsOnlyAsFarAsItsRaysReach) {
     }
     EXPECT_GT(atFoot, 10);
     EXPECT_GT(far, 10);
+}
+
+// Under a time limit the gather first makes every 64th corner's gather as a probe of its time.
+// With a deadline far away the probe changes nothing: every corner holds the value the gather
+// without a deadline gives (each corner's rays come from its own sequence, whatever the order),
+// and all of them gathered with the rays asked.
+TEST(IndirectAtCorners, TheProbeOfADistantDeadlineChangesNoCorner) {
+    const WallAndFloor s = wallAndFloor();
+    IndirectAtCorners unhurried(*s.scene, *s.mesh, 16, int(s.mesh->elementCount()));
+    ASSERT_TRUE(unhurried.gather(wallLitSolution()));
+    IndirectAtCorners timed(*s.scene, *s.mesh, 16, int(s.mesh->elementCount()));
+    ASSERT_TRUE(timed.gather(wallLitSolution(), nullptr,
+                             std::chrono::steady_clock::now() + std::chrono::hours(1)));
+    EXPECT_EQ(timed.raysPerCorner(), 16);
+    EXPECT_EQ(timed.rays(), unhurried.rays());
+    int compared = 0;
+    for (const int e : s.mesh->leafElements()) {
+        for (const bool front : {true, false}) {
+            EXPECT_EQ(timed.corners(e, front), unhurried.corners(e, front)) << e;
+            ++compared;
+        }
+    }
+    EXPECT_GT(compared, 1000);
+}
+
+// A deadline that has passed leaves no time for more than the probe: the gather gives up, and
+// has cast the probe's rays only (one corner's gather in 64), so that the solution's element
+// means are shown without a gather that would have taken the image's time.
+TEST(IndirectAtCorners, ADeadlineThatHasPassedGathersOnlyTheProbe) {
+    const WallAndFloor s = wallAndFloor();
+    IndirectAtCorners unhurried(*s.scene, *s.mesh, 16, int(s.mesh->elementCount()));
+    unhurried.gather(wallLitSolution());
+    IndirectAtCorners late(*s.scene, *s.mesh, 16, int(s.mesh->elementCount()));
+    EXPECT_FALSE(late.gather(wallLitSolution(), nullptr,
+                             std::chrono::steady_clock::now() - std::chrono::seconds(1)));
+    EXPECT_GT(late.rays(), 0u);
+    EXPECT_LT(late.rays(), unhurried.rays() / 32);
 }
 
 double leafSize(const RadiosityMesh& mesh, int e) {
