@@ -112,7 +112,7 @@ void bake(const BakeOptions& options) {
     solver.solve(&solveProgress);
     if (options.specularTransfer && specular) {
         transferThroughSpecular(*scene, mesh, solver,
-                                {automaticTransferPhotons(mesh), options.seed}, quiet,
+                                {automaticTransferPhotons(mesh), options.seed, std::nullopt}, quiet,
                                 solveProgress);
     }
     solver.showIndirectAtCorners(&solveProgress);

@@ -30,6 +30,7 @@ void transferThroughSpecular(const Scene& scene, const RadiosityMesh& mesh, Radi
                              SolveProgress& solveProgress) {
     double previous = 0.0;
     for (int round = 0; round < kMaxSpecularTransfers; ++round) {
+        const auto roundStart = std::chrono::steady_clock::now();
         const ReflectedLightEmitter emitter(scene, mesh, solver);
         const SurfaceEmitter sample = [&](float uChoice, Vec2 u) -> std::optional<SurfaceEmission> {
             const auto point = emitter.sample(uChoice, u);
@@ -54,6 +55,9 @@ void transferThroughSpecular(const Scene& scene, const RadiosityMesh& mesh, Radi
         const double change = std::abs(transferred - previous);
         previous = transferred;
         if (change <= kTransferConvergence * luminance(emitter.power()))
+            return;
+        const auto now = std::chrono::steady_clock::now();
+        if (settings.deadline && now + (now - roundStart) > *settings.deadline)
             return;
     }
 }

@@ -14,7 +14,9 @@
 #include "caustics/photon_tracer.h"
 #include "radiosity/deposited_flux.h"
 
+#include <chrono>
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -41,6 +43,9 @@ struct SpecularTransferSettings {
     // Round r uses the photons' sample sequence from index r * photons on: the rounds are
     // independent, and the result the same for any thread count.
     uint32_t seed = 0;
+    // With a deadline, no round after the first is begun that would end past it, each taken to
+    // last as long as the one before (as the final gather's passes).
+    std::optional<std::chrono::steady_clock::time_point> deadline;
 };
 
 // Runs the rounds on a solved solution (nothing without a specular mesh), each with a progress

@@ -115,8 +115,8 @@ class IndirectAtCorners {
     // Under a deadline, the fewest rays per corner worth gathering: on the modern hall's
     // `distribution` preview at 16 s (relMSE 0.0167 with the element means) corners of 2 and 11
     // rays made it worse (0.218, 0.0209: a few corners' noise over large leaves), 13 rays
-    // better (0.0149), 27-48 rays 0.0113-0.0120 (docs/radiosity.md, "The corners under a time
-    // limit").
+    // better (0.0149), 27-49 rays 0.0102-0.0151 (docs/radiosity.md, "After the solve, under a
+    // time limit").
     static constexpr int kFewestBudgetedRays = 24;
 
     enum class CornerState : uint8_t { None, Exposed, Covered };

@@ -6,15 +6,23 @@
 // bounces) is a large part of the room's. The path tracer is the oracle; without the transfer
 // (specular_transfer = "exclude") the distribution pipeline misses that light and the planner
 // names the paths.
+#include "passes/specular_transfer.h"
+
 #include "core/image_io.h"
+#include "radiosity/radiosity_mesh.h"
+#include "radiosity/radiosity_settings.h"
+#include "radiosity/radiosity_solver.h"
+#include "radiosity/solve_progress.h"
 #include "tests/support/cli_runner.h"
 #include "tests/support/gltf_builder.h"
 #include "tests/support/radiosity_scenes.h"
 
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cstdio>
 #include <fstream>
+#include <optional>
 #include <string>
 
 namespace penumbra::test {
@@ -67,6 +75,31 @@ TEST_F(SpecularTransfer, TheDistributionPreviewSeesTheLightAMirrorCarries) {
     // solution's own error and the photons' noise per element.
     EXPECT_NEAR(with / reference, 1.0, 0.03);
     EXPECT_LT(without / reference, 0.9);
+}
+
+// Under a time limit the transfer begins no round after its first that would end past its
+// deadline: with one already past, the first round runs (the light through the mirror is not
+// lost to a solve that ended late) and no other, where without a deadline the rounds go on until
+// the transferred flux settles.
+TEST(SpecularTransferDeadline, APassedDeadlineLeavesTheFirstRoundOnly) {
+    GltfBuilder builder;
+    addMirrorCeilingRoom(builder);
+    const auto scene = loadBuiltScene(builder, "specular-transfer-deadline");
+    const auto rounds = [&](std::optional<std::chrono::steady_clock::time_point> deadline) {
+        const RadiositySettings settings;
+        RadiosityMesh mesh(*scene, settings.meshing(*scene));
+        RadiositySolver solver(*scene, mesh, settings);
+        solver.solve();
+        ConsoleSolveProgress progress("radiosity", true);
+        transferThroughSpecular(*scene, mesh, solver, {automaticTransferPhotons(mesh), 3, deadline},
+                                true, progress);
+        for (const auto& [key, value] : solver.stats())
+            if (key == "specular_transfer_rounds")
+                return std::stoi(value);
+        return -1;
+    };
+    EXPECT_GE(rounds(std::nullopt), 2);
+    EXPECT_EQ(rounds(std::chrono::steady_clock::now() - std::chrono::seconds(1)), 1);
 }
 
 }  // namespace
