@@ -1,6 +1,7 @@
 #include "radiosity/indirect_at_corners.h"
 
 #include "core/scene.h"
+#include "core/stats.h"
 #include "radiosity/crease_refinement.h"
 #include "radiosity/element_sampling.h"
 
@@ -56,7 +57,10 @@ bool IndirectAtCorners::gather(const Solution& solution, SolveProgress* progress
     reach_.assign(mesh_.elementCount(), {});
     means_.assign(mesh_.elementCount(), {});
     const std::vector<int> leaves = mesh_.leafElements();
-    const std::vector<CornerStates> states = cornerStates(solution, leaves);
+    std::optional<std::vector<CornerStates>> probed = cornerStates(solution, leaves, deadline);
+    if (!probed)
+        return false;
+    const std::vector<CornerStates>& states = *probed;
     std::vector<Corner> corners = exposedCorners(leaves, states);
     // Sorted by key, so that each run of equal keys is one gather, at its first corner (the
     // lowest leaf id: the same whatever the threads).
@@ -87,16 +91,28 @@ bool IndirectAtCorners::gather(const Solution& solution, SolveProgress* progress
         rays += count;
     };
     if (deadline) {
-        // Every kProbeStride-th gather first, with the rays asked, for the time a gather takes;
-        // the others then with as many rays as end by the deadline, no more than asked.
+        // Every kProbeStride-th gather first, with the rays asked, for the time a gather takes,
+        // until they have taken a tenth of the time to the deadline; then every gather with as
+        // many rays as end by the deadline, no more than asked (the probe's gathers again, so
+        // that it changes no value).
         const size_t probes = (gathers + kProbeStride - 1) / kProbeStride;
         const auto probeStart = std::chrono::steady_clock::now();
-        parallelForWithProgress(probes, progress, [&](size_t p) { gatherRun(p * kProbeStride); });
+        const double probeSeconds =
+            kProbeShare * std::chrono::duration<double>(*deadline - probeStart).count();
+        size_t probed = probes;
+        parallelForWithProgress(
+            probes, nullptr, [&](size_t p) { gatherRun(p * kProbeStride); },
+            [&](size_t done) {
+                if (secondsSince(probeStart) <= probeSeconds)
+                    return false;
+                probed = done;
+                return true;
+            });
         const auto now = std::chrono::steady_clock::now();
-        const double perGather =
-            std::chrono::duration<double>(now - probeStart).count() / std::max<size_t>(probes, 1);
+        const double perGather = std::chrono::duration<double>(now - probeStart).count() /
+                                 static_cast<double>(std::max<size_t>(probed, 1));
+        const double projected = perGather * static_cast<double>(gathers);
         const double secondsLeft = std::chrono::duration<double>(*deadline - now).count();
-        const double projected = perGather * static_cast<double>(gathers - probes);
         if (projected > secondsLeft) {
             raysPerCorner_ =
                 static_cast<int>(raysPerCorner_ * std::max(secondsLeft, 0.0) / projected);
@@ -105,13 +121,8 @@ bool IndirectAtCorners::gather(const Solution& solution, SolveProgress* progress
                 return false;
             }
         }
-        parallelForWithProgress(gathers - probes, progress, [&](size_t i) {
-            // The i-th gather that was not a probe.
-            gatherRun(i / (kProbeStride - 1) * kProbeStride + 1 + i % (kProbeStride - 1));
-        });
-    } else {
-        parallelForWithProgress(gathers, progress, gatherRun);
     }
+    parallelForWithProgress(gathers, progress, gatherRun);
     fillCovered(solution, leaves, states);
     corners_.anchorTVertices(mesh_, solution.exposed);
     for (const int e : leaves)
@@ -121,29 +132,41 @@ bool IndirectAtCorners::gather(const Solution& solution, SolveProgress* progress
     return true;
 }
 
-std::vector<IndirectAtCorners::CornerStates> IndirectAtCorners::cornerStates(
-    const Solution& solution, const std::vector<int>& leaves) {
+std::optional<std::vector<IndirectAtCorners::CornerStates>> IndirectAtCorners::cornerStates(
+    const Solution& solution, const std::vector<int>& leaves, Deadline deadline) {
     std::vector<CornerStates> states(leaves.size());
     std::atomic<uint64_t> rays{0};
-    tbb::parallel_for(size_t(0), leaves.size(), [&](size_t i) {
-        const int e = leaves[i];
-        if (!(maxComponent(mesh_.rho(e)) > 0.0f))
-            return;
-        const ElementSampler points(scene_, mesh_, e);
-        uint64_t count = 0;
-        for (const bool front : {true, false}) {
-            if (!solution.exposed(e, front))
-                continue;
-            for (size_t k = 0; k < 3; ++k) {
-                const ElementSample x = points.insetCorner(k);
-                states[i][(front ? 0 : 3) + k] = solution.covered(e, x, front, count)
-                                                     ? CornerState::Covered
-                                                     : CornerState::Exposed;
+    // Under a deadline, the probes for covers must leave the gathers at least half of the time.
+    const auto start = std::chrono::steady_clock::now();
+    const auto tooLong = [&](size_t done) {
+        const double half = 0.5 * std::chrono::duration<double>(*deadline - start).count();
+        const double elapsed = secondsSince(start);
+        return projectedToOverrun(elapsed, done, leaves.size(), half - elapsed);
+    };
+    const bool complete = parallelForWithProgress(
+        leaves.size(), nullptr,
+        [&](size_t i) {
+            const int e = leaves[i];
+            if (!(maxComponent(mesh_.rho(e)) > 0.0f))
+                return;
+            const ElementSampler points(scene_, mesh_, e);
+            uint64_t count = 0;
+            for (const bool front : {true, false}) {
+                if (!solution.exposed(e, front))
+                    continue;
+                for (size_t k = 0; k < 3; ++k) {
+                    const ElementSample x = points.insetCorner(k);
+                    states[i][(front ? 0 : 3) + k] = solution.covered(e, x, front, count)
+                                                         ? CornerState::Covered
+                                                         : CornerState::Exposed;
+                }
             }
-        }
-        rays += count;
-    });
+            rays += count;
+        },
+        deadline ? std::function<bool(size_t)>(tooLong) : nullptr);
     rays_ += rays;
+    if (!complete)
+        return std::nullopt;
     return states;
 }
 

@@ -83,11 +83,13 @@ class IndirectAtCorners {
 
     // Gathers at the corners of every leaf side that is exposed and reflects; the other leaves'
     // corners take the fallback. Advances `progress`, if any, by one per gather (per vertex and
-    // plane). With a deadline, every kProbeStride-th gather is made first with the rays asked,
-    // and the others with fewer if the time a gather took says that the asked count would end
-    // after the deadline (raysPerCorner() then tells how many); if fewer than kFewestBudgetedRays
-    // would, it stops there and returns false: the corners show nothing, and the caller shows
-    // the element means.
+    // plane). With a deadline, it gives up as soon as the probes for covers are projected to
+    // take more than half of the time to it; then every kProbeStride-th gather is made first
+    // with the rays asked, until those have taken kProbeShare of the time to the deadline, and
+    // all of them again with fewer rays than asked if the time those took says that the asked
+    // count would end after the deadline (raysPerCorner() then tells how many); if fewer than
+    // kFewestBudgetedRays would, it stops there. Having given up, it returns false: the corners
+    // show nothing, and the caller shows the element means.
     bool gather(const Solution& solution, SolveProgress* progress = nullptr,
                 Deadline deadline = std::nullopt);
 
@@ -110,8 +112,13 @@ class IndirectAtCorners {
 
   private:
     // The probe under a deadline: one gather in kProbeStride, spread over the mesh by the
-    // gathers' order (by vertex), enough to time and too few to matter if it overruns.
+    // gathers' order (by vertex), with the rays asked, for at most kProbeShare of the time to the
+    // deadline (and its last chunk). With the rays asked, as a gather's fixed costs make fewer
+    // rays a poor guide (probing with 24 rays and scaling the time by the rays, the hall's
+    // corners at 16 s got 31-36 rays where the time allowed 46-49); with a cap, as one gather in
+    // 64 with 256 rays took 1.5 s on the grey-white room at 16 s, which left no time for the rest.
     static constexpr size_t kProbeStride = 64;
+    static constexpr double kProbeShare = 0.1;
     // Under a deadline, the fewest rays per corner worth gathering: on the modern hall's
     // `distribution` preview at 16 s (relMSE 0.0167 with the element means) corners of 2 and 11
     // rays made it worse (0.218, 0.0209: a few corners' noise over large leaves), 13 rays
@@ -137,8 +144,11 @@ class IndirectAtCorners {
     };
     // Per leaf: which of its sides' corners show light (exposed, reflecting), and which of those
     // are covered (adding the probe rays).
-    std::vector<CornerStates> cornerStates(const Solution& solution,
-                                           const std::vector<int>& leaves);
+    // Under a deadline, nothing once they are projected to take more than half of the time to
+    // it.
+    std::optional<std::vector<CornerStates>> cornerStates(const Solution& solution,
+                                                          const std::vector<int>& leaves,
+                                                          Deadline deadline);
     std::vector<Corner> exposedCorners(const std::vector<int>& leaves,
                                        const std::vector<CornerStates>& states) const;
     Gathered meanReflected(const Solution& solution, const Corner& corner, uint32_t n,

@@ -270,7 +270,7 @@ void RadiositySolver::showIndirectAtCorners(SolveProgress* progress,
         endStage(std::to_string(indirectCorners_->rays()) + " rays, " +
                  std::to_string(indirectCorners_->raysPerCorner()) + " per corner");
     } else {
-        endStage("skipped: too few rays per corner before the time limit");
+        endStage("skipped: too little time before the time limit");
         indirectCorners_.reset();
     }
     computeVertexValues();
