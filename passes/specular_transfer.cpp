@@ -42,6 +42,17 @@ void transferThroughSpecular(const Scene& scene, const RadiosityMesh& mesh, Radi
         photons.photons = settings.photons;
         photons.seed = settings.seed;
         photons.firstIndex = static_cast<uint64_t>(round) * settings.photons;
+        if (round == 0 && settings.deadline) {
+            // Under a time limit, a pilot of the first photons first: a transfer whose first
+            // round would carry less than the rounds' own tolerance is not worth its time.
+            PhotonTracerSettings pilot = photons;
+            pilot.photons = std::max<uint64_t>(settings.photons / kPilotFraction, 1);
+            const PhotonTraceResult piloted =
+                tracePhotonsFromSurfaces(scene, sample, emitter.power(), pilot, nullptr);
+            if (piloted.specularMeshes == 0 ||
+                luminance(piloted.storedPower) <= kTransferConvergence * luminance(emitter.power()))
+                return;
+        }
         PhotonTraceResult traced;
         {
             Progress progress("radiosity: specular transfer " + std::to_string(round + 1),

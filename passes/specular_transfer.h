@@ -31,6 +31,8 @@ class SolveProgress;
 // rounds; at most kMaxSpecularTransfers of them.
 constexpr double kTransferConvergence = 0.005;
 constexpr int kMaxSpecularTransfers = 8;
+// Under a deadline, the pilot's share of the first round's photons (SpecularTransferSettings).
+constexpr uint64_t kPilotFraction = 16;
 // The automatic photon count per round: kTransferPhotonsPerLeaf per leaf element of the solved
 // mesh (each element's transferred light is its photons' flux over its area, whose noise falls
 // with the photons per element), at least kBaseTransferPhotons.
@@ -43,8 +45,13 @@ struct SpecularTransferSettings {
     // Round r uses the photons' sample sequence from index r * photons on: the rounds are
     // independent, and the result the same for any thread count.
     uint32_t seed = 0;
-    // With a deadline, no round after the first is begun that would end past it, each taken to
-    // last as long as the one before (as the final gather's passes).
+    // With a deadline, a pilot of 1/kPilotFraction of the first round's photons is shot first,
+    // and if the flux it carries through the specular surfaces is within kTransferConvergence
+    // of the reflected flux, there is no transfer (on the grey-white room, at most 0.2 %: its
+    // round cost a 16-s preview 1.2 s and moved its mean by 0.1 %); and no round after the first
+    // is begun
+    // that would end past the deadline, each taken to last as long as the one before (as the
+    // final gather's passes).
     std::optional<std::chrono::steady_clock::time_point> deadline;
 };
 

@@ -77,6 +77,22 @@ TEST_F(SpecularTransfer, TheDistributionPreviewSeesTheLightAMirrorCarries) {
     EXPECT_LT(without / reference, 0.9);
 }
 
+// The rounds the specular transfer makes on a solved scene, with or without a deadline.
+int transferRounds(const Scene& scene,
+                   std::optional<std::chrono::steady_clock::time_point> deadline) {
+    const RadiositySettings settings;
+    RadiosityMesh mesh(scene, settings.meshing(scene));
+    RadiositySolver solver(scene, mesh, settings);
+    solver.solve();
+    ConsoleSolveProgress progress("radiosity", true);
+    transferThroughSpecular(scene, mesh, solver, {automaticTransferPhotons(mesh), 3, deadline},
+                            true, progress);
+    for (const auto& [key, value] : solver.stats())
+        if (key == "specular_transfer_rounds")
+            return std::stoi(value);
+    return -1;
+}
+
 // Under a time limit the transfer begins no round after its first that would end past its
 // deadline: with one already past, the first round runs (the light through the mirror is not
 // lost to a solve that ended late) and no other, where without a deadline the rounds go on until
@@ -85,21 +101,37 @@ TEST(SpecularTransferDeadline, APassedDeadlineLeavesTheFirstRoundOnly) {
     GltfBuilder builder;
     addMirrorCeilingRoom(builder);
     const auto scene = loadBuiltScene(builder, "specular-transfer-deadline");
-    const auto rounds = [&](std::optional<std::chrono::steady_clock::time_point> deadline) {
-        const RadiositySettings settings;
-        RadiosityMesh mesh(*scene, settings.meshing(*scene));
-        RadiositySolver solver(*scene, mesh, settings);
-        solver.solve();
-        ConsoleSolveProgress progress("radiosity", true);
-        transferThroughSpecular(*scene, mesh, solver, {automaticTransferPhotons(mesh), 3, deadline},
-                                true, progress);
-        for (const auto& [key, value] : solver.stats())
-            if (key == "specular_transfer_rounds")
-                return std::stoi(value);
-        return -1;
-    };
-    EXPECT_GE(rounds(std::nullopt), 2);
-    EXPECT_EQ(rounds(std::chrono::steady_clock::now() - std::chrono::seconds(1)), 1);
+    EXPECT_GE(transferRounds(*scene, std::nullopt), 2);
+    EXPECT_EQ(transferRounds(*scene, std::chrono::steady_clock::now() - std::chrono::seconds(1)),
+              1);
+}
+
+// Under a time limit a pilot of the first round's photons decides whether the transfer is worth
+// its time: a 5 cm mirror on the floor of a lit room carries far less than the rounds' tolerance
+// (0.5 % of the reflected flux), so the time-limited transfer makes no round, where without a
+// time limit it makes its one; the mirror ceiling's light passes the pilot, even with time
+// enough for every round.
+TEST(SpecularTransferDeadline, APilotSkipsATransferWithinItsTolerance) {
+    GltfBuilder builder;
+    const int walls = builder.addMaterial({.baseColor = Color(0.75f, 0.7f, 0.6f)});
+    addClosedBox(builder, walls, walls);
+    const int mirror = builder.addMaterial(
+        {.baseColor = Color(0.95f), .lambertian = false, .metallic = 1.0f, .roughness = 0.0f});
+    constexpr float m = 0.025f, y = -0.99f;
+    builder.addQuad({-m, y, m}, {m, y, m}, {m, y, -m}, {-m, y, -m}, mirror);  // faces up
+    const int lamp = builder.addMaterial(
+        {.baseColor = Color(0.0f), .emissive = Color(1.0f), .emissiveStrength = 20.0f});
+    constexpr float s = 0.2f, h = 0.9f;
+    builder.addQuad({-s, h, -s}, {s, h, -s}, {s, h, s}, {-s, h, s}, lamp);  // faces down
+    const auto smallMirror = loadBuiltScene(builder, "specular-transfer-pilot");
+    const auto later = std::chrono::steady_clock::now() + std::chrono::hours(1);
+    EXPECT_EQ(transferRounds(*smallMirror, std::nullopt), 1);
+    EXPECT_EQ(transferRounds(*smallMirror, later), 0);
+
+    GltfBuilder mirrorCeiling;
+    addMirrorCeilingRoom(mirrorCeiling);
+    EXPECT_GE(transferRounds(*loadBuiltScene(mirrorCeiling, "specular-transfer-ceiling"), later),
+              2);
 }
 
 }  // namespace
