@@ -167,7 +167,7 @@ LinkRefiner::Deadline solveDeadline(const PassContext& context, bool optional) {
 // has not passed, even when the solve ended past its share, and begins no round after its first
 // that would end past a quarter of the time left: on the modern hall, whose solve for the
 // `distribution` preview at 16 s always ends past its share, its two rounds took 1.5-2 s of the
-// 7 s left and brought the preview from 0.954-0.964 of the reference's mean to 0.991-1.000
+// 7 s left and brought the preview from 0.954-0.964 of the reference's mean to 0.989-1.000
 // (docs/radiosity.md, "After the solve, under a time limit").
 constexpr double kTransferShare = 0.25;
 

@@ -49,9 +49,8 @@ struct SpecularTransferSettings {
     // and if the flux it carries through the specular surfaces is within kTransferConvergence
     // of the reflected flux, there is no transfer (on the grey-white room, at most 0.2 %: its
     // round cost a 16-s preview 1.2 s and moved its mean by 0.1 %); and no round after the first
-    // is begun
-    // that would end past the deadline, each taken to last as long as the one before (as the
-    // final gather's passes).
+    // is begun that would end past the deadline, each taken to last as long as the one before
+    // (as the final gather's passes).
     std::optional<std::chrono::steady_clock::time_point> deadline;
 };
 
