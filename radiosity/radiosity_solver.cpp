@@ -208,7 +208,7 @@ void RadiositySolver::refineAtCreases(const std::function<bool()>& stop) {
     secondsCreases_ = secondsSince(start);
 }
 
-void RadiositySolver::showDirectAtCorners() {
+void RadiositySolver::showDirectAtCorners(const std::function<bool()>& stop) {
     const auto start = std::chrono::steady_clock::now();
     auto shown = std::make_unique<ShownDirect>(scene_, mesh_, [this](int e, bool side) {
         return exposure_->fraction(node(e, side)) > 0.0f;
@@ -233,7 +233,8 @@ void RadiositySolver::showDirectAtCorners() {
         .covered =
             [this](int e, const ElementSample& x, bool side, uint64_t& rays) {
                 return exposure_->covered(e, x, side ? x.n : -x.n, rays);
-            }};
+            },
+        .stop = stop};
     // The new leaves keep their parent's radiance and its split into the direct part and the
     // rest (RadianceHierarchy::inherit): the solve did not resolve them.
     shown->refine(solver, maxLeaves, progress_);
@@ -491,7 +492,7 @@ void RadiositySolver::solve(SolveProgress* progress, LinkRefiner::Deadline deadl
         secondsFinalGather_ = secondsSince(stageStart);
     }
     if (settings_.directAtCorners && !timeUp()) {
-        showDirectAtCorners();
+        showDirectAtCorners(timeUp);
         computeVertexValues();
     }
     // After the direct light's refinement, whose corners the new leaves inherit: it refines
@@ -638,6 +639,7 @@ PassStats RadiositySolver::stats() const {
             {"seconds_creases", formatStat(secondsCreases_)},
             {"direct_at_corners_splits", std::to_string(shown_ ? shown_->leavesSplit() : 0)},
             {"direct_at_corners_budget_reached", shown_ && shown_->budgetReached() ? "yes" : "no"},
+            {"direct_at_corners_stopped_by_time_limit", shown_ && shown_->stopped() ? "yes" : "no"},
             {"direct_at_corners_rays", std::to_string(shown_ ? shown_->rays() : 0)},
             {"seconds_direct_at_corners", formatStat(secondsShownDirect_)},
             {"indirect_at_corners_rays",

@@ -219,8 +219,8 @@ class RadiositySolver : public RadiositySolution {
     // (crease_refinement.h; only with RadiositySettings::indirectAtCorners), until `stop` says so.
     void refineAtCreases(const std::function<bool()>& stop);
     // The sources' direct light at the leaves' corners, on a mesh refined for it (shown_direct.h;
-    // RadiositySettings::directAtCorners).
-    void showDirectAtCorners();
+    // RadiositySettings::directAtCorners), its rounds of splits until `stop` says so.
+    void showDirectAtCorners(const std::function<bool()>& stop);
     // What the solution shows of the indirect light (the transferred flux's first reflection
     // included) at a point: the corners' interpolation (indirect_at_corners.h), or without them
     // the vertex values' (Gouraud).

@@ -208,6 +208,11 @@ void ShownDirect::refine(const Solver& solver, size_t maxLeaves, SolveProgress* 
     if (progress)
         progress->endStage(std::to_string(split.size()) + " leaves to split");
     for (int round = 1; !split.empty(); ++round) {
+        if (solver.stop && solver.stop()) {
+            stopped_ = true;
+            unresolved_.insert(unresolved_.end(), split.begin(), split.end());
+            break;
+        }
         const size_t room = maxLeaves > mesh_.leafCount() ? maxLeaves - mesh_.leafCount() : 0;
         // A split adds three leaves.
         if (split.size() * 3 > room) {

@@ -94,11 +94,14 @@ class ShownDirect {
         std::function<std::function<Color(int element, bool front)>()> shownMeans;
         std::function<bool(int element, const ElementSample& x, bool front, uint64_t& rays)>
             covered;
+        // If given, asked before each round of splits: once it says yes (a time limit has run
+        // out), the leaves still to split stay as they are, as at the budget.
+        std::function<bool()> stop;
     };
     // Evaluates the corners of every leaf, then splits leaves as the rules above say until none
-    // is left to split or the mesh holds maxLeaves leaves. A child's corners are its parent's
-    // corners and the points its parent was tested at, so that only its own test points are
-    // new. With `progress`, a stage per round of splits.
+    // is left to split, the mesh holds maxLeaves leaves or the solver's stop says so. A child's
+    // corners are its parent's corners and the points its parent was tested at, so that only its
+    // own test points are new. With `progress`, a stage per round of splits.
     void refine(const Solver& solver, size_t maxLeaves, SolveProgress* progress = nullptr);
 
     // Gives the children of a leaf split after refine() (the refinement at creases,
@@ -113,6 +116,8 @@ class ShownDirect {
 
     bool budgetReached() const { return budgetReached_; }
     size_t leavesSplit() const { return leavesSplit_; }
+    // Whether the solver's stop ended the splits with leaves still to split.
+    bool stopped() const { return stopped_; }
     uint64_t rays() const { return rays_; }
     size_t memoryBytes() const { return corners_.memoryBytes(); }
 
@@ -158,6 +163,7 @@ class ShownDirect {
     float environmentFloor_ = 0.0f;
     bool budgetReached_ = false;
     size_t leavesSplit_ = 0;
+    bool stopped_ = false;
     uint64_t rays_ = 0;
 };
 

@@ -291,7 +291,7 @@ TEST(HierarchicalRadiosity, StatsReportPeakMemoryPerStage) {
         // "yes" or "no"; every other figure is a number
         if (key != "converged" && key != "refinement_stopped_by_time_limit" &&
             key != "abandoned_by_time_limit" && key != "direct_at_corners_budget_reached" &&
-            key != "crease_budget_reached")
+            key != "direct_at_corners_stopped_by_time_limit" && key != "crease_budget_reached")
             stats[key] = std::stod(value);
     }
     const std::vector<std::string> stages = {"direct", "linking", "refine", "solve"};
