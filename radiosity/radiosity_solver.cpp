@@ -395,7 +395,7 @@ void RadiositySolver::solve(SolveProgress* progress, LinkRefiner::Deadline deadl
     rays_ += irradiance_->compute(leaves, progress_,
                                   deadline ? pace : std::function<Pace(size_t)>{}, &stopped);
     if (stopped) {
-        abandoned_ = true;
+        abandoned_ = stoppedRefining_ = true;
         endStage("abandoned: its time is up");
         secondsDirect_ = secondsTotal_ = secondsSince(start);
         refiner_->setProgress(nullptr);
@@ -419,8 +419,10 @@ void RadiositySolver::solve(SolveProgress* progress, LinkRefiner::Deadline deadl
     // With a deadline the links start coarse and the refinement rounds refine them as time
     // allows, so that the solve has a whole solution early instead of a fine one late.
     refiner_->linkPatches("linking", deadline ? kCoarseLinkingScale : 1.0f);
-    stoppedRefining_ = timeUp();
     abandoned_ = refiner_->abandoned();
+    // An abandoned solve's refinement was stopped by the time limit too, also when its oracle
+    // gave up before the deadline (LinkRefiner::oracleTooLong).
+    stoppedRefining_ = timeUp() || abandoned_;
     endStage(abandoned_ ? "abandoned: its time is up" : linksAndLeaves());
     secondsLinking_ = secondsSince(stageStart);
     peakLinking_ = peakMemoryMiB();
