@@ -13,6 +13,7 @@
 #pragma once
 
 #include "core/camera.h"
+#include "core/deadline.h"
 #include "core/image.h"
 #include "core/render_settings.h"
 #include "core/scene.h"
@@ -20,10 +21,8 @@
 #include "core/stats.h"
 
 #include <any>
-#include <chrono>
 #include <map>
 #include <memory>
-#include <optional>
 #include <set>
 #include <string>
 #include <utility>
@@ -45,7 +44,7 @@ class PassContext {
     // When the pipeline's time limit ends (RenderSettings::timeLimit from the start of the first
     // pass), set by Pipeline::run; absent without a limit. Passes that sample until it is spent
     // measure their progress against it; the pipeline stops them (Pass::stopEarly).
-    std::optional<std::chrono::steady_clock::time_point> deadline;
+    Deadline deadline;
 
     // Image layers produced so far, by name: each image-forming pass's contribution (under the
     // pass's type, e.g. "path"), "beauty" (their sum, made by the composite) and AOVs such as

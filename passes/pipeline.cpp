@@ -26,8 +26,7 @@ bool Pipeline::run(PassContext& context, const std::function<bool()>& abandon) {
                 break;
             if (abandon && abandon())
                 return false;
-            const Clock::time_point now = Clock::now();
-            if (context.deadline && now + (now - stepStart) > *context.deadline &&
+            if (nextStepWouldOverrun(Clock::now() - stepStart, context.deadline) &&
                 pass.stopEarly(context)) {
                 break;
             }

@@ -142,7 +142,7 @@ std::string RadiosityPass::skipReason(const SceneContents& contents) const {
 namespace {
 
 // With a time limit, a share of the time left now; none without.
-LinkRefiner::Deadline shareOfTimeLeft(const PassContext& context, double share) {
+Deadline shareOfTimeLeft(const PassContext& context, double share) {
     if (!context.deadline)
         return std::nullopt;
     const auto now = std::chrono::steady_clock::now();
@@ -159,7 +159,7 @@ LinkRefiner::Deadline shareOfTimeLeft(const PassContext& context, double share) 
 // modern hall the corrected hybrid's error per second of path tracing is a third of the path
 // tracer's (docs/benchmarks.md), so a solve that ends before two thirds of the time still pays;
 // a solution nothing can replace gets half.
-LinkRefiner::Deadline solveDeadline(const PassContext& context, bool optional) {
+Deadline solveDeadline(const PassContext& context, bool optional) {
     return shareOfTimeLeft(context, optional ? 2.0 / 3.0 : 0.5);
 }
 
@@ -178,7 +178,7 @@ constexpr double kTransferShare = 0.25;
 // and 0.6 gave relMSE 0.0130, 0.0110 and 0.0110 (means of seeds 0-2) against 0.0168 without the
 // corners: 0.4 has 0.6's error and leaves the image more samples. The radiosity view's samples
 // only anti-alias its pixels: it gives the gather most of the time.
-LinkRefiner::Deadline cornerDeadline(const PassContext& context, bool view) {
+Deadline cornerDeadline(const PassContext& context, bool view) {
     return shareOfTimeLeft(context, view ? 0.75 : 0.4);
 }
 
@@ -214,19 +214,17 @@ void RadiosityPass::prepare(PassContext& context) {
                 : std::vector<FluxDeposit>{};
         auto solver =
             std::make_unique<RadiositySolver>(context.scene, *mesh_, *hierarchical, deposits);
-        const LinkRefiner::Deadline deadline = solveDeadline(context, optional_);
+        const Deadline deadline = solveDeadline(context, optional_);
         solver->solve(&progress, deadline,
                       optional_ ? LinkRefiner::OnTimeUp::Abandon : LinkRefiner::OnTimeUp::Coarsen);
         const bool abandoned = solver->abandoned();
-        const auto outOfTime = [&context] {
-            return context.deadline && std::chrono::steady_clock::now() >= *context.deadline;
-        };
-        if (transfers_ && context.contents.specular && !abandoned && !outOfTime())
+        if (transfers_ && context.contents.specular && !abandoned &&
+            !deadlinePassed(context.deadline))
             transferThroughSpecular(context.scene, *mesh_, *solver,
                                     {transferPhotons(*mesh_), context.settings.seed,
                                      shareOfTimeLeft(context, kTransferShare)},
                                     context.settings.quiet, progress);
-        if (!abandoned && !outOfTime())
+        if (!abandoned && !deadlinePassed(context.deadline))
             solver->showIndirectAtCorners(&progress, cornerDeadline(context, view_));
         solution_ = std::move(solver);
         if (abandoned)

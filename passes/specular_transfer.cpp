@@ -67,8 +67,7 @@ void transferThroughSpecular(const Scene& scene, const RadiosityMesh& mesh, Radi
         previous = transferred;
         if (change <= kTransferConvergence * luminance(emitter.power()))
             return;
-        const auto now = std::chrono::steady_clock::now();
-        if (settings.deadline && now + (now - roundStart) > *settings.deadline)
+        if (nextStepWouldOverrun(std::chrono::steady_clock::now() - roundStart, settings.deadline))
             return;
     }
 }

@@ -12,11 +12,10 @@
 #pragma once
 
 #include "caustics/photon_tracer.h"
+#include "core/deadline.h"
 #include "radiosity/deposited_flux.h"
 
-#include <chrono>
 #include <cstdint>
-#include <optional>
 #include <span>
 #include <vector>
 
@@ -51,7 +50,7 @@ struct SpecularTransferSettings {
     // round cost a 16-s preview 1.2 s and moved its mean by 0.1 %); and no round after the first
     // is begun that would end past the deadline, each taken to last as long as the one before
     // (as the final gather's passes).
-    std::optional<std::chrono::steady_clock::time_point> deadline;
+    Deadline deadline;
 };
 
 // Runs the rounds on a solved solution (nothing without a specular mesh), each with a progress

@@ -37,6 +37,7 @@
 // for Computer Generated Films", plays the same part).
 #pragma once
 
+#include "core/deadline.h"
 #include "core/math.h"
 #include "radiosity/corner_rays.h"
 #include "radiosity/leaf_corner_values.h"
@@ -45,7 +46,6 @@
 #include "radiosity/solve_progress.h"
 
 #include <array>
-#include <chrono>
 #include <cstdint>
 #include <functional>
 #include <optional>
@@ -78,8 +78,6 @@ class IndirectAtCorners {
     // raysPerCorner / 2^d rays, at least CreaseRefinement::kProbeRays (raysAt()).
     IndirectAtCorners(const Scene& scene, const RadiosityMesh& mesh, int raysPerCorner,
                       int firstCreaseLeaf);
-
-    using Deadline = std::optional<std::chrono::steady_clock::time_point>;
 
     // Gathers at the corners of every leaf side that is exposed and reflects; the other leaves'
     // corners take the fallback. Advances `progress`, if any, by one per gather (per vertex and

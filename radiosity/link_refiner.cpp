@@ -250,7 +250,7 @@ bool LinkRefiner::oracleTooLong() const {
 }
 
 bool LinkRefiner::timeIsUp() {
-    coarse_ = coarse_ || (deadline_ && std::chrono::steady_clock::now() >= *deadline_);
+    coarse_ = coarse_ || deadlinePassed(deadline_);
     return coarse_;
 }
 

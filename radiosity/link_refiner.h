@@ -6,6 +6,7 @@
 // elements it splits are announced to the solver, which grows its parts indexed by node.
 #pragma once
 
+#include "core/deadline.h"
 #include "core/math.h"
 #include "radiosity/cluster_tree.h"
 #include "radiosity/direct_irradiance.h"
@@ -21,7 +22,6 @@
 #include <chrono>
 #include <cstdint>
 #include <functional>
-#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -56,8 +56,6 @@ class LinkRefiner {
     // and each step's links get a stage "<step>: form factors and visibility".
     void setProgress(SolveProgress* progress) { progress_ = progress; }
 
-    // When the caller's time for the solve is up (a time limit), if it has one.
-    using Deadline = std::optional<std::chrono::steady_clock::time_point>;
     // What the refinement does once the deadline has passed, or the initial linking's oracle has
     // used its share of the time it had left (oracleTooLong): Coarsen links every pair it still
     // examines as it stands (the oracle allows any error from then on; close nodes under a radius,

@@ -143,7 +143,7 @@ Color RadiositySolver::elementIndirect(int e, bool side) const {
 // changes by less than kFinalGatherChange.
 // Under a deadline, a pass is taken to last as long as the one before: the grey-white room's
 // 132 689 leaves take 4 s a pass, and a time-limited solve that had linked in time ran four.
-void RadiositySolver::finalGather(LinkRefiner::Deadline deadline) {
+void RadiositySolver::finalGather(Deadline deadline) {
     const std::vector<int> leaves = mesh_.leafElements();
     radiance_->clearCorrection();
     for (int pass = 1; pass <= kMaxFinalGatherPasses; ++pass) {
@@ -161,8 +161,7 @@ void RadiositySolver::finalGather(LinkRefiner::Deadline deadline) {
         computeVertexValues();
         if (relativeChange < kFinalGatherChange)
             break;
-        const auto now = std::chrono::steady_clock::now();
-        if (deadline && now + (now - passStart) > *deadline)
+        if (nextStepWouldOverrun(std::chrono::steady_clock::now() - passStart, deadline))
             break;
     }
 }
@@ -242,8 +241,7 @@ void RadiositySolver::showDirectAtCorners(const std::function<bool()>& stop) {
     secondsShownDirect_ = secondsSince(start);
 }
 
-void RadiositySolver::showIndirectAtCorners(SolveProgress* progress,
-                                            LinkRefiner::Deadline deadline) {
+void RadiositySolver::showIndirectAtCorners(SolveProgress* progress, Deadline deadline) {
     if (settings_.indirectAtCorners <= 0)
         return;
     const auto start = std::chrono::steady_clock::now();
@@ -351,12 +349,12 @@ void RadiositySolver::endStage(const std::string& summary) {
 // HSA91's "HierarchicalRadiosity" with brightness-weighted refinement: link the patches with the
 // oracle on the initial radiance (emission and punctual direct light), then alternate solving and
 // refining the links with the current radiance until nothing is refined.
-void RadiositySolver::solve(SolveProgress* progress, LinkRefiner::Deadline deadline,
+void RadiositySolver::solve(SolveProgress* progress, Deadline deadline,
                             LinkRefiner::OnTimeUp onTimeUp) {
     progress_ = progress;
     refiner_->setProgress(progress);
     refiner_->setTimeLimit(deadline, onTimeUp);
-    const auto timeUp = [&] { return deadline && std::chrono::steady_clock::now() >= *deadline; };
+    const auto timeUp = [&] { return deadlinePassed(deadline); };
     const auto start = std::chrono::steady_clock::now();
     const auto linksAndLeaves = [&] {
         return std::to_string(linkCount()) + " links, " + std::to_string(mesh_.leafCount()) +
@@ -424,7 +422,9 @@ void RadiositySolver::solve(SolveProgress* progress, LinkRefiner::Deadline deadl
     // gave up before the deadline (LinkRefiner::oracleTooLong).
     stoppedRefining_ = timeUp() || abandoned_;
     endStage(abandoned_ ? "abandoned: its time is up" : linksAndLeaves());
-    secondsLinking_ = secondsSince(stageStart);
+    // The time of the last linking or refinement step, which the next one is taken to last.
+    auto lastStep = std::chrono::steady_clock::now() - stageStart;
+    secondsLinking_ = std::chrono::duration<double>(lastStep).count();
     peakLinking_ = peakMemoryMiB();
     if (abandoned_) {
         secondsTotal_ = secondsSince(start);
@@ -438,7 +438,6 @@ void RadiositySolver::solve(SolveProgress* progress, LinkRefiner::Deadline deadl
     stageStart = std::chrono::steady_clock::now();
     iteration_->run(roundThreshold, 0, "gather", progress_);
     secondsSolve_ += secondsSince(stageStart);
-    double lastStep = secondsLinking_;  // the time of the last linking or refinement step
     // One refinement step, then, if it changed anything, the solve of the new round.
     int round = 0;
     const auto step = [&](const std::string& name, const auto& refineStep) {
@@ -447,8 +446,8 @@ void RadiositySolver::solve(SolveProgress* progress, LinkRefiner::Deadline deadl
         beginStage(stepName + ": refinement oracle", 0);
         const bool refined = refineStep(stepName);
         endStage(refined ? linksAndLeaves() : "nothing to refine");
-        lastStep = secondsSince(stageStart);
-        secondsRefine_ += lastStep;
+        lastStep = std::chrono::steady_clock::now() - stageStart;
+        secondsRefine_ += std::chrono::duration<double>(lastStep).count();
         peakRefine_ = peakMemoryMiB();
         if (!refined)
             return false;
@@ -465,10 +464,7 @@ void RadiositySolver::solve(SolveProgress* progress, LinkRefiner::Deadline deadl
     // Whether the caller's time is up, or would be before another step as long as the last
     // (the linking or the last round) ended: the solve then ends with what it has.
     const auto stop = [&] {
-        const auto next = std::chrono::steady_clock::now() +
-                          std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                              std::chrono::duration<double>(lastStep));
-        stoppedRefining_ = stoppedRefining_ || (deadline && next >= *deadline);
+        stoppedRefining_ = stoppedRefining_ || nextStepWouldOverrun(lastStep, deadline);
         return stoppedRefining_;
     };
     while (round < settings_.maxRefinements && !stop() && step("refinement round", refineRound)) {

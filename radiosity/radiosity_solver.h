@@ -80,6 +80,7 @@
 //   ShownDirect (shown_direct.h)               the direct light shown at the leaves' corners.
 #pragma once
 
+#include "core/deadline.h"
 #include "core/math.h"
 #include "core/stats.h"
 #include "radiosity/crease_refinement.h"
@@ -135,7 +136,7 @@ class RadiositySolver : public RadiositySolution {
     // OnTimeUp::Abandon, an initial linking that has not ended by the deadline abandons the solve
     // instead (abandoned()): the solution is then not usable, for a caller that can do without it
     // (the corrected hybrid traces what it would have held).
-    void solve(SolveProgress* progress = nullptr, LinkRefiner::Deadline deadline = std::nullopt,
+    void solve(SolveProgress* progress = nullptr, Deadline deadline = std::nullopt,
                LinkRefiner::OnTimeUp onTimeUp = LinkRefiner::OnTimeUp::Coarsen);
     bool abandoned() const { return abandoned_; }
 
@@ -162,8 +163,7 @@ class RadiositySolver : public RadiositySolution {
     // With a deadline, fewer rays per corner if the asked count would end after it, and no
     // corners if too few would (IndirectAtCorners::gather). Reports its stage to `progress` if
     // given.
-    void showIndirectAtCorners(SolveProgress* progress = nullptr,
-                               LinkRefiner::Deadline deadline = std::nullopt);
+    void showIndirectAtCorners(SolveProgress* progress = nullptr, Deadline deadline = std::nullopt);
 
     // Radiance (cd/m²) leaving the surface at barycentric b of scene triangle (mesh, triangle)
     // on its front (or back) side: the Gouraud interpolation of the reflected part
@@ -214,7 +214,7 @@ class RadiositySolver : public RadiositySolution {
     void inheritSplit(int e, int first);
     // The final gather's passes (final_gather.h), each a stage of rays, one per leaf, then its
     // gather sweeps; with a deadline, no pass that would end past it (as long as the last).
-    void finalGather(LinkRefiner::Deadline deadline);
+    void finalGather(Deadline deadline);
     // Leaves refined where surfaces meet, for the indirect light at the corners
     // (crease_refinement.h; only with RadiositySettings::indirectAtCorners), until `stop` says so.
     void refineAtCreases(const std::function<bool()>& stop);

@@ -23,7 +23,7 @@ namespace penumbra::test {
 namespace {
 
 // A deadline that has passed before the solve begins.
-LinkRefiner::Deadline past() {
+Deadline past() {
     return std::chrono::steady_clock::now() - std::chrono::seconds(1);
 }
 
