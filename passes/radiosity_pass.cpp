@@ -34,6 +34,7 @@ void hierarchicalKeys(Settings& s, Keys& keys) {
     keys.orAuto("patch_edge_length", s.patchEdgeLength, 0.0f);
     keys.orAuto("min_element_area", s.minElementArea, 0.0f);
     keys("contact_lines", s.contactLines);
+    keys("shadow_lines", s.shadowLines);
     keys("convergence", s.convergence);
     keys("visibility_samples", s.visibilitySamples);
     keys("max_iterations", s.maxIterations);

@@ -13,13 +13,8 @@ namespace penumbra {
 
 namespace {
 
-// Distance from a plane under which a point counts as on it, relative to the scene's diagonal:
-// modelling tools write a block standing on a floor to a few float ulps.
-constexpr double kPlaneTolerance = 1e-5;
 // Triangles this close to parallel are coplanar (coincident_faces.h's business), not in contact.
 constexpr double kParallelCosine = 0.9999;
-// Segments kept per triangle, the longest: the cut's cost grows with their square.
-constexpr size_t kMaxSegments = 256;
 
 // The segment in which `other` meets the plane of `t` within `tolerance`, clipped to `t`;
 // false when they do not meet along a segment inside `t`, off its edges.
@@ -35,26 +30,9 @@ bool contactSegment(const HeldTriangle& t, const HeldTriangle& other, double tol
     // Not touching, or wholly behind a one-sided surface (which cannot see it).
     if (lowest > tolerance || highest < -tolerance || (!t.twoSided && highest <= tolerance))
         return false;
-    std::vector<glm::dvec3> points;
-    for (int i = 0; i < 3; ++i) {
-        const size_t a = size_t(i), b = size_t(i + 1) % 3;
-        if (std::abs(d[a]) <= tolerance)
-            points.push_back(other.p[a] - d[a] * t.normal);
-        if ((d[a] > tolerance && d[b] < -tolerance) || (d[a] < -tolerance && d[b] > tolerance))
-            points.push_back(other.p[a] + d[a] / (d[a] - d[b]) * (other.p[b] - other.p[a]));
-    }
-    if (points.size() < 2)
-        return false;
-    glm::dvec3 from = points[0], to = points[1];
-    for (size_t i = 0; i < points.size(); ++i) {
-        for (size_t j = i + 1; j < points.size(); ++j) {
-            if (glm::distance(points[i], points[j]) > glm::distance(from, to)) {
-                from = points[i];
-                to = points[j];
-            }
-        }
-    }
-    return clipToTriangle(t, from, to, tolerance, minLength, segment);
+    glm::dvec3 from, to;
+    return planeCrossing(other.p, t.normal, t.p[0], tolerance, from, to) &&
+           clipToTriangle(t, from, to, tolerance, minLength, segment);
 }
 
 }  // namespace
@@ -64,7 +42,7 @@ ContactLines::ContactLines(const Scene& scene, float minTriangleArea, float minS
     if (held.empty())
         return;
     const double diagonal = glm::length(glm::dvec3(scene.bounds().diagonal()));
-    const double tolerance = kPlaneTolerance * diagonal;
+    const double tolerance = kOnPlaneFraction * diagonal;
     const glm::dvec3 pad(tolerance);
     const BoxGrid grid(held, diagonal, tolerance);
     for (uint32_t i = 0; i < held.size(); ++i) {
@@ -77,17 +55,9 @@ ContactLines::ContactLines(const Scene& scene, float minTriangleArea, float minS
             if (j != i && contactSegment(t, held[j], tolerance, double(minSegmentLength), s))
                 found.push_back(s);
         });
-        keepLongest(t, found, kMaxSegments);
-        if (!found.empty())
-            segments_[key(t.mesh, t.triangle)] = std::move(found);
+        keepLongest(t, found, kMaxSegmentsPerTriangle);
+        set(t, std::move(found));
     }
-}
-
-std::span<const TriangleSegment> ContactLines::on(uint32_t mesh, uint32_t triangle) const {
-    const auto it = segments_.find(key(mesh, triangle));
-    if (it == segments_.end())
-        return {};
-    return it->second;
 }
 
 }  // namespace penumbra

@@ -5,18 +5,13 @@
 // rather than elements that straddle them.
 #pragma once
 
-#include "radiosity/triangle_pieces.h"
-
-#include <cstdint>
-#include <span>
-#include <unordered_map>
-#include <vector>
+#include "radiosity/held_triangles.h"
 
 namespace penumbra {
 
 class Scene;
 
-class ContactLines {
+class ContactLines : public SegmentsByTriangle {
   public:
     // Finds the contact lines on every triangle of a material the radiosity mesh holds
     // (holdsMaterial) whose area is at least minTriangleArea, made by the other such triangles
@@ -24,17 +19,6 @@ class ContactLines {
     // it, keeping the segments at least minSegmentLength long that do not lie on the triangle's
     // own edges (where it meets its neighbours).
     ContactLines(const Scene& scene, float minTriangleArea, float minSegmentLength);
-
-    // The segments on triangle `triangle` of scene mesh `mesh`, in its barycentric coordinates;
-    // empty if none.
-    std::span<const TriangleSegment> on(uint32_t mesh, uint32_t triangle) const;
-    size_t triangleCount() const { return segments_.size(); }  // triangles with a segment
-
-  private:
-    static uint64_t key(uint32_t mesh, uint32_t triangle) {
-        return (uint64_t(mesh) << 32) | triangle;
-    }
-    std::unordered_map<uint64_t, std::vector<TriangleSegment>> segments_;
 };
 
 }  // namespace penumbra

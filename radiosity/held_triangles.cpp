@@ -51,6 +51,34 @@ glm::dvec3 barycentric(const HeldTriangle& t, const glm::dvec3& x) {
     return {1.0 - b1 - b2, b1, b2};
 }
 
+bool planeCrossing(const std::array<glm::dvec3, 3>& p, const glm::dvec3& normal,
+                   const glm::dvec3& origin, double tolerance, glm::dvec3& from, glm::dvec3& to) {
+    std::array<double, 3> d;
+    for (size_t i = 0; i < 3; ++i)
+        d[i] = glm::dot(normal, p[i] - origin);
+    std::vector<glm::dvec3> points;
+    for (size_t i = 0; i < 3; ++i) {
+        const size_t j = (i + 1) % 3;
+        if (std::abs(d[i]) <= tolerance)
+            points.push_back(p[i] - d[i] * normal);
+        if ((d[i] > tolerance && d[j] < -tolerance) || (d[i] < -tolerance && d[j] > tolerance))
+            points.push_back(p[i] + d[i] / (d[i] - d[j]) * (p[j] - p[i]));
+    }
+    if (points.size() < 2)
+        return false;
+    from = points[0];
+    to = points[1];
+    for (size_t i = 0; i < points.size(); ++i) {
+        for (size_t j = i + 1; j < points.size(); ++j) {
+            if (glm::distance(points[i], points[j]) > glm::distance(from, to)) {
+                from = points[i];
+                to = points[j];
+            }
+        }
+    }
+    return true;
+}
+
 bool clipToTriangle(const HeldTriangle& t, const glm::dvec3& from, const glm::dvec3& to,
                     double tolerance, double minLength, TriangleSegment& segment) {
     // Each barycentric coordinate, linear along the segment, kept >= 0. An end within the
@@ -108,6 +136,18 @@ void keepLongest(const HeldTriangle& t, std::vector<TriangleSegment>& segments, 
     std::nth_element(segments.begin(), segments.begin() + ptrdiff_t(count), segments.end(),
                      [&](const auto& a, const auto& b) { return length(a) > length(b); });
     segments.resize(count);
+}
+
+std::span<const TriangleSegment> SegmentsByTriangle::on(uint32_t mesh, uint32_t triangle) const {
+    const auto it = segments_.find(key(mesh, triangle));
+    if (it == segments_.end())
+        return {};
+    return it->second;
+}
+
+void SegmentsByTriangle::set(const HeldTriangle& t, std::vector<TriangleSegment> segments) {
+    if (!segments.empty())
+        segments_[key(t.mesh, t.triangle)] = std::move(segments);
 }
 
 BoxGrid::BoxGrid(const std::vector<HeldTriangle>& triangles, double diagonal, double pad)

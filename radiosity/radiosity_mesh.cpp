@@ -19,6 +19,7 @@
 #include "core/scene.h"
 #include "radiosity/contact_lines.h"
 #include "radiosity/quiet_openmesh_errors.h"
+#include "radiosity/shadow_lines.h"
 #include "radiosity/triangle_pieces.h"
 
 #include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
@@ -26,6 +27,7 @@
 #include <algorithm>
 #include <climits>
 #include <cmath>
+#include <iterator>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -190,12 +192,17 @@ RadiosityMesh::RadiosityMesh(const Scene& scene, const MeshingSettings& settings
     const std::span<const Mesh> meshes = scene.meshes();
     triangles_.resize(meshes.size());
     impl_->materials.resize(scene.materials().size());
+    if ((settings.contactLines || settings.shadowLines) && !(minElementArea_ > 0.0f))
+        throw std::invalid_argument(
+            "radiosity mesh: contact or shadow lines need minElementArea > 0");
     std::optional<ContactLines> contacts;
-    if (settings.contactLines) {
-        if (!(minElementArea_ > 0.0f))
-            throw std::invalid_argument("radiosity mesh: contactLines needs minElementArea > 0");
+    if (settings.contactLines)
         contacts.emplace(scene, 16.0f * minElementArea_, std::sqrt(minElementArea_));
-    }
+    std::optional<ShadowLines> shadows;
+    if (settings.shadowLines)
+        shadows.emplace(scene, shadowSources(scene), 16.0f * minElementArea_,
+                        std::sqrt(minElementArea_));
+    std::vector<TriangleSegment> segments;
     // Contact features finer than an eighth of the smallest element's side are joined.
     const float contactResolution = 0.125f * std::sqrt(minElementArea_);
     uint64_t patchTotal = 0;
@@ -249,8 +256,11 @@ RadiosityMesh::RadiosityMesh(const Scene& scene, const MeshingSettings& settings
                     v = impl_->addVertex(p[c]).idx();
                 corners[c] = VertexHandle(v);
             }
-            const std::span<const TriangleSegment> segments =
-                contacts ? contacts->on(mi, t) : std::span<const TriangleSegment>{};
+            segments.clear();
+            if (contacts)
+                std::ranges::copy(contacts->on(mi, t), std::back_inserter(segments));
+            if (shadows)
+                std::ranges::copy(shadows->on(mi, t), std::back_inserter(segments));
             const TrianglePieces cut = cutTriangle(p, segments, contactResolution);
             if (cut.pieces.size() == 1) {
                 root.corners = corners;

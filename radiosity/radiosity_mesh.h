@@ -50,6 +50,9 @@ struct MeshingSettings {
     // made, so that no element straddles one: the triangles of at least 16 times minElementArea,
     // along segments at least sqrt(minElementArea) long (which must then be > 0).
     bool contactLines = false;
+    // Cut them along the shadow boundaries of the scene's point-like sources too
+    // (shadow_lines.h), with the same bounds.
+    bool shadowLines = false;
 };
 
 // Sizes for the log (the solver's statistics).
@@ -60,7 +63,7 @@ struct RadiosityMeshStats {
     size_t vertices = 0;
     // Midpoints on an edge whose other side is not split, as of the last setElementValues().
     size_t tVertices = 0;
-    size_t cutTriangles = 0;  // scene triangles cut along contact lines, into...
+    size_t cutTriangles = 0;  // scene triangles cut along contact or shadow lines, into...
     size_t pieces = 0;        // ... this many pieces, each patched like a triangle
     size_t memoryBytes = 0;   // estimate of what the mesh holds, OpenMesh's arrays included
 };

@@ -13,6 +13,8 @@
 //   contact_lines       bool    false           cut the triangles along the lines where other
 //                                               surfaces meet them (a block on a floor) before
 //                                               meshing, so that no element straddles one
+//   shadow_lines        bool    false           cut them along the shadow boundaries of point
+//                                               lights, luminaires and the sun as well
 //   convergence         float   1e-4            stop when the estimated relative error of the
 //                                               gather iteration is below this
 //   visibility_samples  int     16              shadow rays per link and direct-light samples per
@@ -66,6 +68,7 @@ MeshingSettings RadiositySettings::meshing(const Scene& scene) const {
         m.minElementArea = static_cast<float>(glm::max(total / 16384.0, 1e-12));
     }
     m.contactLines = contactLines;
+    m.shadowLines = shadowLines;
     return m;
 }
 

@@ -31,6 +31,9 @@ struct RadiositySettings {
     // Cut the scene's triangles along their contact lines before meshing (MeshingSettings::
     // contactLines): discontinuity meshing of the D0 discontinuities.
     bool contactLines = false;
+    // Cut them along the shadow boundaries of the point-like sources too (MeshingSettings::
+    // shadowLines): the D1 discontinuities of point lights, luminaires and the sun.
+    bool shadowLines = false;
     // Stop when the estimated relative error of the iteration (RadiosityIteration::errorBound) is
     // below this.
     double convergence = 1e-4;

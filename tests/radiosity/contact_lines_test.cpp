@@ -6,6 +6,7 @@
 #include "radiosity/radiosity_mesh.h"
 #include "tests/support/gltf_builder.h"
 #include "tests/support/radiosity_scenes.h"
+#include "tests/support/straddling_leaves.h"
 
 #include "core/scene.h"
 
@@ -71,23 +72,6 @@ void splitFloor(RadiosityMesh& mesh, int levels) {
     }
 }
 
-// The floor leaves with corners on both sides of the footprint's outline (by more than 1e-5 m).
-int straddlingLeaves(const RadiosityMesh& mesh) {
-    int straddling = 0;
-    for (const int leaf : mesh.leafElements()) {
-        if (!isFloor(mesh, leaf))
-            continue;
-        bool inside = false, outside = false;
-        for (const Vec3& corner : mesh.corners(leaf)) {
-            const float d = footprintDistance(corner);
-            inside = inside || d < -1e-5f;
-            outside = outside || d > 1e-5f;
-        }
-        straddling += inside && outside ? 1 : 0;
-    }
-    return straddling;
-}
-
 TEST(ContactLines, ABoxStandingOnAFloorCutsItAlongItsFootprint) {
     const auto scene = floorAndBox(0.0f, 0.5f, "contact-standing");
     const ContactLines lines(*scene, 1e-3f, 1e-2f);
@@ -116,7 +100,7 @@ TEST(ContactLines, ABoxThroughAFloorCutsItWhereItPassesThrough) {
     const auto scene = floorAndBox(-0.2f, 0.5f, "contact-through");
     RadiosityMesh mesh(*scene, contactSettings(true));
     splitFloor(mesh, 2);
-    EXPECT_EQ(straddlingLeaves(mesh), 0);
+    EXPECT_EQ(test::straddlingLeaves(mesh, 0, footprintDistance), 0);
     // The floor's two triangles, and the eight of the box's sides, which the floor cuts in turn.
     EXPECT_EQ(mesh.stats().cutTriangles, 10u);
 }
@@ -136,9 +120,10 @@ TEST(ContactLines, NoLeafStraddlesTheFootprintHoweverFarSplit) {
     for (const int levels : {0, 1, 3}) {
         splitFloor(cut, levels);
         splitFloor(whole, levels);
-        EXPECT_EQ(straddlingLeaves(cut), 0) << levels << " levels";
+        EXPECT_EQ(test::straddlingLeaves(cut, 0, footprintDistance), 0) << levels << " levels";
         if (levels > 0) {  // the check can fail: the lattice's leaves do straddle it
-            EXPECT_GT(straddlingLeaves(whole), 0) << levels << " levels";
+            EXPECT_GT(test::straddlingLeaves(whole, 0, footprintDistance), 0)
+                << levels << " levels";
         }
     }
     EXPECT_EQ(cut.stats().cutTriangles, 2u);
