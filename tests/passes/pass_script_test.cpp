@@ -142,7 +142,7 @@ TEST_F(PassScriptTest, UnknownPassKeyAtTheKeyWithTheValidOnes) {
     EXPECT_EQ(firstLine(message),
               "5:3: pass[0].epsiln: unknown key; valid keys here: type, solver, caustics, "
               "specular_transfer, transfer_photons, epsilon, "
-              "patch_edge_length, min_element_area, contact_lines, convergence, "
+              "patch_edge_length, min_element_area, contact_lines, shadow_lines, convergence, "
               "visibility_samples, "
               "max_iterations, max_refinements, iteration, cluster_min_patches, "
               "subdivision_threshold, final_gather, direct_at_corners, indirect_at_corners");
