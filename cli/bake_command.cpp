@@ -36,7 +36,13 @@ struct BakeOptions {
     std::string output;
     std::optional<float> exposure;  // EV; none = automatic
     int threads = 0;
-    RadiositySettings radiosity;
+    // Not cut along shadow lines unless asked: a baked vertex on one would hold one colour for
+    // both sides, and a cut that ends on a triangle's edge leaves a T-junction in the model.
+    RadiositySettings radiosity = [] {
+        RadiositySettings r;
+        r.shadowLines = false;
+        return r;
+    }();
     bool caustics = true;          // take the lights' caustic photons into the solution
     bool specularTransfer = true;  // carry the solution's light through specular surfaces
     uint32_t seed = 0;             // of the photons and of the check
@@ -181,6 +187,12 @@ Command addBakeCommand(CLI::App& app) {
         ->add_flag("--contact-lines", r.contactLines,
                    "Cut the surfaces along the lines where others stand on them (a block on a "
                    "floor) before meshing, so that no element straddles one")
+        ->capture_default_str();
+    command
+        ->add_flag("--shadow-lines", r.shadowLines,
+                   "Cut the surfaces along the shadow boundaries of point lights, luminaires and "
+                   "the sun before meshing (the renders' default; off in a bake, whose vertices "
+                   "on a boundary hold one colour for both sides)")
         ->capture_default_str();
     command
         ->add_flag("!--no-direct-at-corners", r.directAtCorners,

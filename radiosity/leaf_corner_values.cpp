@@ -56,8 +56,8 @@ void LeafCornerValues::anchorTVertices(const RadiosityMesh& mesh, const SideShow
                 ++edge;
                 continue;
             }
-            if (t == v[edge])
-                continue;
+            if (t == v[edge] || mesh.edgeOnCut(e, edge))
+                continue;  // across a cut's line the light may step: no continuity there
             const Vec3 a = mesh.position(v[edge]), b = mesh.position(v[(edge + 1) % 3]);
             const float s = glm::dot(mesh.position(t) - a, b - a) / glm::dot(b - a, b - a);
             for (const bool front : {true, false}) {

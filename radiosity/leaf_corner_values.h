@@ -49,6 +49,8 @@ class LeafCornerValues {
     // view, and the bake's fan of the coarse leaf shows the same values. A coarse leaf's side
     // that `shows` says nobody sees (covered: a piece of floor under a block, cut off along the
     // block's foot by the contact lines) anchors nothing on that side: its values are stand-ins.
+    // Nor does an edge on a cut's line (RadiosityMesh::edgeOnCut): the light may step there, and
+    // each side keeps its own values.
     using SideShows = std::function<bool(int leaf, bool front)>;
     void anchorTVertices(const RadiosityMesh& mesh, const SideShows& shows);
 

@@ -36,6 +36,24 @@ namespace penumbra {
 
 namespace {
 
+// The edges of a child (its corners `corners` among the parent's c0 c1 c2 m01 m12 m20, as
+// kChildCorners numbers them) that lie on the parent's cut edges: a child's edge lies on the
+// parent's edge k when both its ends are among that edge's three points.
+uint8_t childCutEdges(uint8_t parentCut, const int (&corners)[3]) {
+    static constexpr int kOnParentEdge[3][3] = {{0, 3, 1}, {1, 4, 2}, {2, 5, 0}};
+    const auto on = [](int k, int point) {
+        return std::ranges::find(kOnParentEdge[k], point) != std::end(kOnParentEdge[k]);
+    };
+    uint8_t cut = 0;
+    for (int c = 0; c < 3; ++c) {
+        for (int k = 0; k < 3; ++k) {
+            if ((parentCut >> k & 1) && on(k, corners[c]) && on(k, corners[(c + 1) % 3]))
+                cut = uint8_t(cut | (1 << c));
+        }
+    }
+    return cut;
+}
+
 using PolyMesh = OpenMesh::PolyMesh_ArrayKernelT<>;
 using OpenMesh::FaceHandle;
 using OpenMesh::HalfedgeHandle;
@@ -183,7 +201,8 @@ RadiosityMesh::RadiosityMesh(const Scene& scene, const MeshingSettings& settings
         std::array<VertexHandle, 3> corners;
         // The corners' barycentric coordinates in the scene triangle.
         std::array<Vec3, 3> barycentric = {Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1)};
-        int piece = -1;  // index into pieces_, -1 for a whole triangle
+        int piece = -1;        // index into pieces_, -1 for a whole triangle
+        uint8_t cutEdges = 0;  // the piece's edges on a cut (TrianglePieces::cutEdges)
         int level = 0;
         double area;
         Vec3 normal;
@@ -275,8 +294,10 @@ RadiosityMesh::RadiosityMesh(const Scene& scene, const MeshingSettings& settings
             TrianglePatches& info = triangles_[mi][t];
             info.firstPiece = int(pieces_.size());
             info.pieceCount = 0;
-            for (const std::array<uint32_t, 3>& piece : cut.pieces) {
+            for (size_t pi = 0; pi < cut.pieces.size(); ++pi) {
+                const std::array<uint32_t, 3>& piece = cut.pieces[pi];
                 Root part = root;
+                part.cutEdges = cut.cutEdges[pi];
                 std::array<Vec3, 3> q;
                 for (int c = 0; c < 3; ++c) {
                     part.corners[c] = points[piece[c]];
@@ -387,6 +408,18 @@ RadiosityMesh::RadiosityMesh(const Scene& scene, const MeshingSettings& settings
             e.patch = id;
             e.face = f.face.idx();
             e.twoSided = scene.materials()[meshes[root.mesh].material].doubleSided;
+            // An edge of the patch on an edge of its piece that lies on a cut: the piece's
+            // lattice corners (0, 0), (n, 0), (0, n) have its edges 0, 1, 2 on y = 0, x + y = n
+            // and x = 0.
+            for (int c = 0; c < 3; ++c) {
+                const IVec2 a = f.lattice[(first + c) % 3], b = f.lattice[(first + c + 1) % 3];
+                const bool onEdge[3] = {a.y == 0 && b.y == 0, a.x + a.y == n && b.x + b.y == n,
+                                        a.x == 0 && b.x == 0};
+                for (int k = 0; k < 3; ++k) {
+                    if (onEdge[k] && (root.cutEdges >> k & 1))
+                        e.cutEdges = uint8_t(e.cutEdges | (1 << c));
+                }
+            }
             impl_->mesh.property(impl_->faceElement, f.face) = id;
             setMaterial(e);
         }
@@ -490,6 +523,7 @@ int RadiosityMesh::split(int element, float minChildArea) {
         e.face = faces[child].idx();
         e.level = uint8_t(parent.level + 1);
         e.twoSided = parent.twoSided;
+        e.cutEdges = childCutEdges(parent.cutEdges, RadiosityMesh::kChildCorners[child]);
         setMaterial(e);
         impl_->mesh.property(impl_->faceElement, faces[child]) = first + child;
         elements_.push_back(e);

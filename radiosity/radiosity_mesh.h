@@ -137,6 +137,9 @@ class RadiosityMesh {
     int patch(int element) const { return at(element).patch; }
     // Number of splits between the patch and the element (0 for a patch).
     int level(int element) const { return at(element).level; }
+    // Whether the element's edge from corner k to corner k + 1 lies on a contact or shadow
+    // line the triangle was cut along (MeshingSettings): the light may step across it.
+    bool edgeOnCut(int element, size_t k) const { return (at(element).cutEdges >> k & 1) != 0; }
     // Whether split(element) is allowed: the element is a leaf and its children would be at least
     // minElementArea(element).
     bool canSplit(int element) const { return canSplit(element, minElementArea(element)); }
@@ -261,6 +264,7 @@ class RadiosityMesh {
         int face = -1;  // the leaf's face in the OpenMesh mesh, -1 once split
         uint8_t level = 0;
         bool twoSided = false;
+        uint8_t cutEdges = 0;  // bit k: its edge from corner k to k + 1 lies on a cut's line
     };
     // Per scene triangle, or per piece of a triangle cut along contact lines: its first patch
     // and the number of patches along an edge (n = 2^level).

@@ -13,7 +13,7 @@
 //   contact_lines       bool    false           cut the triangles along the lines where other
 //                                               surfaces meet them (a block on a floor) before
 //                                               meshing, so that no element straddles one
-//   shadow_lines        bool    false           cut them along the shadow boundaries of point
+//   shadow_lines        bool    true            cut them along the shadow boundaries of point
 //                                               lights, luminaires and the sun as well
 //   convergence         float   1e-4            stop when the estimated relative error of the
 //                                               gather iteration is below this

@@ -33,7 +33,7 @@ struct RadiositySettings {
     bool contactLines = false;
     // Cut them along the shadow boundaries of the point-like sources too (MeshingSettings::
     // shadowLines): the D1 discontinuities of point lights, luminaires and the sun.
-    bool shadowLines = false;
+    bool shadowLines = true;
     // Stop when the estimated relative error of the iteration (RadiosityIteration::errorBound) is
     // below this.
     double convergence = 1e-4;

@@ -36,6 +36,8 @@ constexpr double kShapeBound = 0.125;
 constexpr int kStepsPerInputVertex = 16;
 // The least resolution, relative to the triangle's longest edge: a few float ulps of barycentrics.
 constexpr double kLeastResolution = 1e-6;
+// A barycentric coordinate under which a point counts as on the triangle's edge.
+constexpr float kBorderBarycentric = 1e-6f;
 
 // The triangle's plane: 2D coordinates of a barycentric point, and back.
 class TrianglePlane {
@@ -143,6 +145,7 @@ TrianglePieces cutTriangle(const std::array<Vec3, 3>& corners,
     result.points = {Vec3(1.0f, 0.0f, 0.0f), Vec3(0.0f, 1.0f, 0.0f), Vec3(0.0f, 0.0f, 1.0f)};
     if (segments.empty()) {
         result.pieces = {{0, 1, 2}};
+        result.cutEdges = {0};
         return result;
     }
     const TrianglePlane plane(corners);
@@ -181,8 +184,22 @@ TrianglePieces cutTriangle(const std::array<Vec3, 3>& corners,
     for (const Triangulation::Face_handle f : cdt.finite_face_handles()) {
         if (!f->is_in_domain())
             continue;
-        result.pieces.push_back(
-            {index.at(f->vertex(0)), index.at(f->vertex(1)), index.at(f->vertex(2))});
+        const std::array<uint32_t, 3> piece = {index.at(f->vertex(0)), index.at(f->vertex(1)),
+                                               index.at(f->vertex(2))};
+        // CGAL's edge i is the one opposite vertex i: the edge from corner k to k + 1 is
+        // opposite corner k + 2. The triangle's own edges are constrained too (the domain's
+        // border): an edge whose ends share a zero barycentric (to rounding) lies on one.
+        uint8_t cut = 0;
+        for (int k = 0; k < 3; ++k) {
+            const Vec3& a = result.points[piece[size_t(k)]];
+            const Vec3& b = result.points[piece[size_t(k + 1) % 3]];
+            const Vec3 low = glm::max(a, b);
+            const bool border = std::min({low.x, low.y, low.z}) < kBorderBarycentric;
+            if (f->is_constrained((k + 2) % 3) && !border)
+                cut = uint8_t(cut | (1 << k));
+        }
+        result.pieces.push_back(piece);
+        result.cutEdges.push_back(cut);
     }
     return result;
 }

@@ -29,6 +29,9 @@ struct TrianglePieces {
     // Indices into points, counter-clockwise seen from the triangle's front (the side its own
     // corners' counter-clockwise winding faces). A single piece when nothing cut the triangle.
     std::vector<std::array<uint32_t, 3>> pieces;
+    // Per piece, bit k set when its edge from corner k to corner k + 1 lies on one of the
+    // segments (inside the triangle, not on its own edges): a line where the light may step.
+    std::vector<uint8_t> cutEdges;
 };
 
 // Cuts the triangle with world-space corners `corners` along `segments` (clipped to it by the

@@ -158,6 +158,20 @@ TEST(ShadowLines, NoLeafStraddlesTheShadowHoweverFarSplit) {
         }
     }
     EXPECT_EQ(cut.stats().cutTriangles, 2u);
+    // The leaves' edges marked as on a cut (across which each side keeps its own light) are the
+    // outline's: both ends on it.
+    int onCut = 0;
+    for (const int leaf : cut.leafElements()) {
+        const std::array<Vec3, 3> c = cut.corners(leaf);
+        for (size_t k = 0; k < 3; ++k) {
+            if (!cut.edgeOnCut(leaf, k))
+                continue;
+            ++onCut;
+            EXPECT_NEAR(pointShadow(c[k]), 0.0f, 1e-4f) << "leaf " << leaf;
+            EXPECT_NEAR(pointShadow(c[(k + 1) % 3]), 0.0f, 1e-4f) << "leaf " << leaf;
+        }
+    }
+    EXPECT_GT(onCut, 0);
 }
 
 }  // namespace
