@@ -139,7 +139,7 @@ void keepLongest(const HeldTriangle& t, std::vector<TriangleSegment>& segments, 
 }
 
 std::span<const TriangleSegment> SegmentsByTriangle::on(uint32_t mesh, uint32_t triangle) const {
-    const auto it = segments_.find(key(mesh, triangle));
+    const auto it = segments_.find(triangleKey(mesh, triangle));
     if (it == segments_.end())
         return {};
     return it->second;
@@ -147,7 +147,7 @@ std::span<const TriangleSegment> SegmentsByTriangle::on(uint32_t mesh, uint32_t 
 
 void SegmentsByTriangle::set(const HeldTriangle& t, std::vector<TriangleSegment> segments) {
     if (!segments.empty())
-        segments_[key(t.mesh, t.triangle)] = std::move(segments);
+        segments_[triangleKey(t.mesh, t.triangle)] = std::move(segments);
 }
 
 BoxGrid::BoxGrid(const std::vector<HeldTriangle>& triangles, double diagonal, double pad)

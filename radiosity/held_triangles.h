@@ -24,6 +24,11 @@ inline constexpr double kOnPlaneFraction = 1e-5;
 // Segments a finder keeps per triangle, the longest: the cut's cost grows with their square.
 inline constexpr size_t kMaxSegmentsPerTriangle = 256;
 
+// A scene triangle's key in a hash map.
+inline uint64_t triangleKey(uint32_t mesh, uint32_t triangle) {
+    return (uint64_t(mesh) << 32) | triangle;
+}
+
 struct HeldTriangle {
     uint32_t mesh = 0, triangle = 0;
     std::array<glm::dvec3, 3> p{};
@@ -68,9 +73,6 @@ class SegmentsByTriangle {
     void set(const HeldTriangle& t, std::vector<TriangleSegment> segments);
 
   private:
-    static uint64_t key(uint32_t mesh, uint32_t triangle) {
-        return (uint64_t(mesh) << 32) | triangle;
-    }
     std::unordered_map<uint64_t, std::vector<TriangleSegment>> segments_;
 };
 

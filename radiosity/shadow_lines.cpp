@@ -27,7 +27,6 @@ struct Wedge {
     glm::dvec3 normal{0.0};  // unit normal of the wedge's plane
     std::array<glm::dvec3, 3> sidePoint{};
     std::array<glm::dvec3, 3> sideNormal{};  // in the plane, pointing into the wedge
-    glm::dvec3 lo{0.0}, hi{0.0};             // box of its part inside the scene
     glm::dvec3 source{0.0};                  // L, or for a source at infinity -d
     bool atInfinity = false;
     double lit = 1.0;  // the side of the plane (the sign along normal) away from the occluder
@@ -43,10 +42,6 @@ struct SharedEdge {
 
 // Points along an edge from which rays look for the triangles its wedge cuts.
 constexpr int kMaxPointsPerEdge = 32;
-
-uint64_t heldKey(uint32_t mesh, uint32_t triangle) {
-    return (uint64_t(mesh) << 32) | triangle;
-}
 
 std::vector<SharedEdge> sharedEdges(const std::vector<HeldTriangle>& held, double tolerance) {
     using Corner = std::array<int64_t, 3>;
@@ -86,38 +81,27 @@ bool silhouette(const SharedEdge& e, const ShadowSource& s) {
     return (glm::dot(e.normals[0], toSource) > 0.0) != (glm::dot(e.normals[1], toSource) > 0.0);
 }
 
-// The wedge of edge e away from source s, bounded by the scene's box; none when the source is
-// on the edge's line.
-std::optional<Wedge> wedgeOf(const SharedEdge& e, const ShadowSource& s, const glm::dvec3& sceneLo,
-                             const glm::dvec3& sceneHi) {
+// The wedge of edge e away from source s; none when the source is on the edge's line.
+std::optional<Wedge> wedgeOf(const SharedEdge& e, const ShadowSource& s) {
     Wedge w;
     w.a = e.a;
     w.b = e.b;
     w.atInfinity = s.atInfinity();
-    const double diagonal = glm::length(sceneHi - sceneLo);
     const glm::dvec3 edge = e.b - e.a;
-    glm::dvec3 farA, farB;
+    glm::dvec3 away;  // from the source through the edge's first end
     if (w.atInfinity) {
-        const glm::dvec3 d = glm::normalize(glm::dvec3(s.direction));
-        w.source = -d;
-        w.normal = glm::cross(d, edge);
+        away = glm::normalize(glm::dvec3(s.direction));
+        w.source = -away;
+        w.normal = glm::cross(away, edge);
         if (!(glm::length(w.normal) > 1e-9 * glm::length(edge)))
             return std::nullopt;
         w.normal = glm::normalize(w.normal);
-        const glm::dvec3 across = glm::cross(w.normal, d);
+        const glm::dvec3 across = glm::cross(w.normal, away);
         w.sidePoint = {e.a, e.a, e.b};
-        w.sideNormal = {glm::cross(w.normal, edge), across, -across};
-        // Beyond the edge along d; side a towards b; side b towards a.
-        if (glm::dot(w.sideNormal[0], d) < 0.0)
-            w.sideNormal[0] = -w.sideNormal[0];
-        if (glm::dot(w.sideNormal[1], edge) < 0.0)
-            w.sideNormal[1] = -w.sideNormal[1];
-        if (glm::dot(w.sideNormal[2], -edge) < 0.0)
-            w.sideNormal[2] = -w.sideNormal[2];
-        farA = e.a + diagonal * d;
-        farB = e.b + diagonal * d;
+        w.sideNormal = {glm::cross(w.normal, edge), across, across};
     } else {
         const glm::dvec3 L(s.position);
+        away = e.a - L;
         w.source = L;
         w.normal = glm::cross(e.a - L, e.b - L);
         if (!(glm::length(w.normal) > 1e-9 * glm::length(e.a - L) * glm::length(e.b - L)))
@@ -126,26 +110,15 @@ std::optional<Wedge> wedgeOf(const SharedEdge& e, const ShadowSource& s, const g
         w.sidePoint = {e.a, L, L};
         w.sideNormal = {glm::cross(w.normal, edge), glm::cross(w.normal, e.a - L),
                         glm::cross(w.normal, e.b - L)};
-        if (glm::dot(w.sideNormal[0], e.a - L) < 0.0)
-            w.sideNormal[0] = -w.sideNormal[0];
-        if (glm::dot(w.sideNormal[1], edge) < 0.0)
-            w.sideNormal[1] = -w.sideNormal[1];
-        if (glm::dot(w.sideNormal[2], -edge) < 0.0)
-            w.sideNormal[2] = -w.sideNormal[2];
-        // Far enough along every ray from L through the edge to leave the scene: its closest
-        // point is at least `nearest` from L, and no point of the scene is farther than the
-        // diagonal beyond it.
-        const double along = std::clamp(glm::dot(L - e.a, edge) / glm::dot(edge, edge), 0.0, 1.0);
-        const double nearest = glm::length(e.a + along * edge - L);
-        const double reach = 1.0 + diagonal / std::max(nearest, 1e-9 * diagonal);
-        farA = L + reach * (e.a - L);
-        farB = L + reach * (e.b - L);
+    }
+    // Inwards: beyond the edge, away from the source; from side a towards b; from side b
+    // towards a.
+    const std::array<glm::dvec3, 3> inwards = {away, edge, -edge};
+    for (size_t k = 0; k < 3; ++k) {
+        if (glm::dot(w.sideNormal[k], inwards[k]) < 0.0)
+            w.sideNormal[k] = -w.sideNormal[k];
     }
     w.lit = glm::dot(e.apex - e.a, w.normal) > 0.0 ? -1.0 : 1.0;
-    w.lo = glm::max(glm::min(glm::min(e.a, e.b), glm::min(farA, farB)), sceneLo);
-    w.hi = glm::min(glm::max(glm::max(e.a, e.b), glm::max(farA, farB)), sceneHi);
-    if (glm::any(glm::greaterThan(w.lo, w.hi)))
-        return std::nullopt;
     return w;
 }
 
@@ -205,7 +178,7 @@ std::vector<uint32_t> struckTriangles(const Scene& scene, const Wedge& w,
             const std::optional<SurfaceHit> hit = scene.intersect(ray);
             if (!hit)
                 break;
-            const auto it = heldIndex.find(heldKey(hit->mesh, hit->triangle));
+            const auto it = heldIndex.find(triangleKey(hit->mesh, hit->triangle));
             if (it != heldIndex.end()) {
                 struck.push_back(it->second);
                 break;
@@ -241,10 +214,8 @@ ShadowLines::ShadowLines(const Scene& scene, const std::vector<ShadowSource>& so
     const std::vector<HeldTriangle> held = heldTriangles(scene);
     if (held.empty() || sources.empty())
         return;
-    const glm::dvec3 sceneLo(scene.bounds().lo), sceneHi(scene.bounds().hi);
-    const double diagonal = glm::length(sceneHi - sceneLo);
+    const double diagonal = glm::length(glm::dvec3(scene.bounds().diagonal()));
     const double tolerance = kOnPlaneFraction * diagonal;
-    const glm::dvec3 pad(tolerance);
 
     std::vector<Wedge> wedges;
     std::vector<size_t> wedgeSource;
@@ -253,8 +224,7 @@ ShadowLines::ShadowLines(const Scene& scene, const std::vector<ShadowSource>& so
         for (const SharedEdge& e : edges) {
             if (!silhouette(e, sources[s]))
                 continue;
-            if (const std::optional<Wedge> w =
-                    wedgeOf(e, sources[s], sceneLo - pad, sceneHi + pad)) {
+            if (const std::optional<Wedge> w = wedgeOf(e, sources[s])) {
                 wedges.push_back(*w);
                 wedgeSource.push_back(s);
             }
@@ -264,7 +234,7 @@ ShadowLines::ShadowLines(const Scene& scene, const std::vector<ShadowSource>& so
 
     std::unordered_map<uint64_t, uint32_t> heldIndex;
     for (uint32_t i = 0; i < held.size(); ++i)
-        heldIndex.emplace(heldKey(held[i].mesh, held[i].triangle), i);
+        heldIndex.emplace(triangleKey(held[i].mesh, held[i].triangle), i);
     // Rays a receiver of the smallest size cut apart, and off the edge by ten tolerances.
     const double spacing = 4.0 * double(std::sqrt(minTriangleArea / 16.0f));
     const double nudge = 10.0 * tolerance;
