@@ -95,6 +95,9 @@ PassStats DistributionPass::parameters() const {
 
 PassStats DistributionPass::stats() const {
     PassStats stats = SamplingPass::stats();
+    // Whether the solve was abandoned and the indirect light path traced (makeEstimator).
+    if (ambient_ == Ambient::Radiosity)
+        stats.push_back({"indirect_path_traced", pathTracer_ ? "yes" : "no"});
     if (ambient_ == Ambient::RadiosityMean) {
         const Color& a = settings_.ambient;
         stats.push_back(
@@ -105,6 +108,19 @@ PassStats DistributionPass::stats() const {
 
 RadianceEstimator DistributionPass::makeEstimator(PassContext& context) {
     radiosity_ = context.product<RadiositySolution>(products::kRadiositySolution);
+    if (ambient_ == Ambient::Radiosity && !radiosity_ && context.contents.diffuse) {
+        // The scene has diffuse surfaces, so the radiosity pass ran, and gave up its solve at the
+        // time limit (WithoutSolution::kTraces): the path tracer's estimate instead, of every path
+        // but the caustics another pass counts. It counts the paths of distributionLightPaths()
+        // and those it leaves out (light through mirrors onto the surface seen, ...), none twice.
+        PathTracerSettings traced;
+        traced.excludeCaustics = causticPathsCounted_;
+        pathTracer_ = std::make_unique<PathTracer>(context.scene, traced);
+        return [tracer = pathTracer_.get()](const Ray& ray, Sampler& sampler, FirstHit* firstHit,
+                                            PathCounters& counters) {
+            return tracer->Li(ray, sampler, firstHit, counters);
+        };
+    }
     if (ambient_ == Ambient::RadiosityMean) {
         // Null when the planner skipped the radiosity pass: no diffuse surface to reflect.
         settings_.ambient =

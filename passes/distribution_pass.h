@@ -41,12 +41,17 @@ class DistributionPass : public SamplingPass {
                    ? "L S* E | L D S* E"
                    : distributionLightPaths(causticsInRadiosity_, specularTransfer_);
     }
+    // Without the solution (a solve abandoned because it would not end within the time limit)
+    // the pass traces the indirect light: makeEstimator().
     TransportFlags transportFlags() const override {
-        return {.showsSolution = ambient_ == Ambient::Radiosity};
+        const bool solution = ambient_ == Ambient::Radiosity;
+        return {.withoutSolution = solution ? WithoutSolution::kTraces : WithoutSolution::kCannot,
+                .showsSolution = solution};
     }
     void adapt(const PipelineShape& shape) override {
         causticsInRadiosity_ = shape.causticsInRadiosity;
         specularTransfer_ = shape.specularTransferInRadiosity;
+        causticPathsCounted_ = shape.causticPathsCounted;
     }
     std::set<std::string> needs() const override {
         if (ambient_ == Ambient::Constant)
@@ -66,9 +71,11 @@ class DistributionPass : public SamplingPass {
     Ambient ambient_;
     bool causticsInRadiosity_ = false;  // the solution holds the caustic photons (L S+ D+)
     bool specularTransfer_ = false;     // the solution holds D S+ D too
+    bool causticPathsCounted_ = false;  // another pass counts L S+ D S* E
     std::shared_ptr<const RadiositySolution> radiosity_;
     std::optional<SolutionForTracers> reusedSolution_;  // radiosity_ as the tracer reads it
     std::unique_ptr<DistributionTracer> tracer_;
+    std::unique_ptr<PathTracer> pathTracer_;  // instead of tracer_ without the solution
 };
 
 // Whitted's ambient radiance from a radiosity solution: the area-weighted mean of the reflected

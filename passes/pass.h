@@ -92,6 +92,21 @@ class PassContext {
 // pass's specular transfer after a caustic pass) and traces it otherwise (kFromSolution).
 enum class SpecularAtReuse { kNotReused, kTraced, kFromSolution };
 
+// What a pass that reuses a radiosity solution does when it has none, because the solve was
+// abandoned at the time limit (RadiosityPass), from the least it can to the most.
+enum class WithoutSolution {
+    kCannot,  // nothing replaces the solution: the solve is coarsened to end in time instead
+    // It traces the light the solution would have given (a distribution pass path-traces the
+    // indirect light; a path pass that takes the solution as it is traces every path on): as
+    // right as the path tracer, but a coarse solution serves a preview better while it can be
+    // had, so the solve is abandoned only when it would not end within the whole time limit.
+    kTraces,
+    // It does as well without, only slower (a path pass that corrects the solution: its estimate
+    // is the path tracer's in expectation either way), so the solve is abandoned as soon as it
+    // would not end within its share of the time.
+    kSame,
+};
+
 struct TransportFlags {
     // The pass's image counts the caustic paths L S+ D S* E (a caustic pass): a path pass in auto
     // mode leaves them out.
@@ -106,10 +121,8 @@ struct TransportFlags {
     // How the pass takes the light that the vertices where it reuses a radiosity solution
     // receive through specular surfaces (PathPass): kNotReused when it reuses none there.
     SpecularAtReuse specularAtReuse = SpecularAtReuse::kNotReused;
-    // The pass reuses a radiosity solution but does as well without one, only slower (a path
-    // pass that corrects the solution: its estimate is the path tracer's in expectation either
-    // way), so a solve short of time may be abandoned for it.
-    bool solutionOptional = false;
+    // What the pass does without the radiosity solution it reuses (WithoutSolution).
+    WithoutSolution withoutSolution = WithoutSolution::kCannot;
     // The pass counts the caustic paths L S+ D S* E itself when no other pass of the pipeline
     // does (a path pass with caustics = "auto").
     bool tracesUncountedCaustics = false;
@@ -133,9 +146,9 @@ struct PipelineShape {
     // holds, and whether one takes it from a solution that holds it.
     bool specularTracedLater = false;
     bool specularFromSolutionLater = false;
-    // A pass after this one reuses the radiosity solution and cannot do without it
-    // (TransportFlags::solutionOptional).
-    bool solutionRequiredLater = false;
+    // What the passes after this one that reuse the radiosity solution do without it: the least
+    // any of them can (TransportFlags::withoutSolution).
+    WithoutSolution withoutSolutionLater = WithoutSolution::kSame;
     // A pass after this one traces the caustic paths L S+ D S* E itself when no other pass counts
     // them (TransportFlags::tracesUncountedCaustics).
     bool causticsTracedLater = false;

@@ -72,7 +72,7 @@ RadianceEstimator PathPass::makeEstimator(PassContext& context) {
     causticMap_ = context.product<CausticMap>(products::kCausticMap);
     PathTracerSettings settings = settings_;
     // No solution: the radiosity pass was skipped (no diffuse surface, so there is nothing to
-    // reuse) or, for a correcting pass, abandoned at the time limit; every path is traced on.
+    // reuse) or abandoned at the time limit (PathPass::transportFlags); every path is traced on.
     reuses_ = settings.reuseRadiosity && radiosity_;
     if (!reuses_) {
         const bool excludeCaustics = settings.excludeCaustics;

@@ -42,8 +42,9 @@ class PathPass : public SamplingPass {
     // vertices itself: unbiased either way, and on the modern hall the solution's specular
     // transfer (1.6 s of set-up) bought nothing at 64 s and cost a third of the path tracer's
     // time at 16 s. The preview takes it from a solution that holds it with the caustics.
-    // Without the solution (a solve abandoned at the time limit) a correcting pass traces every
-    // path on, as the path tracer does.
+    // Without the solution (a solve abandoned at the time limit) it traces every path on, as the
+    // path tracer does: for a correcting pass the same estimate, for the preview a slower but
+    // right one.
     // In caustics = "auto" it traces the caustic paths when no other pass counts them.
     TransportFlags transportFlags() const override {
         const bool tracesCaustics = caustics_ == Caustics::Auto;
@@ -52,7 +53,7 @@ class PathPass : public SamplingPass {
         const bool corrects = settings_.correctionProbability > 0.0f;
         return {
             .specularAtReuse = corrects ? SpecularAtReuse::kTraced : SpecularAtReuse::kFromSolution,
-            .solutionOptional = corrects,
+            .withoutSolution = corrects ? WithoutSolution::kSame : WithoutSolution::kTraces,
             .tracesUncountedCaustics = tracesCaustics};
     }
     std::set<std::string> needs() const override;

@@ -3,6 +3,7 @@
 #include "core/light_paths.h"
 #include "passes/products.h"
 
+#include <algorithm>
 #include <stdexcept>
 
 namespace penumbra {
@@ -41,7 +42,7 @@ std::optional<PipelineProblem> checkPipeline(Pipeline& pipeline) {
         shape.neededLater.clear();
         shape.specularTracedLater = false;
         shape.specularFromSolutionLater = false;
-        shape.solutionRequiredLater = false;
+        shape.withoutSolutionLater = WithoutSolution::kSame;
         shape.causticsTracedLater = false;
         shape.solutionShownLater = false;
         for (size_t j = i + 1; j < passes.size(); ++j) {
@@ -52,9 +53,9 @@ std::optional<PipelineProblem> checkPipeline(Pipeline& pipeline) {
             shape.solutionShownLater = shape.solutionShownLater || later.showsSolution;
             for (const std::string& need : passes[j]->needs()) {
                 shape.neededLater.insert(need);
-                shape.solutionRequiredLater =
-                    shape.solutionRequiredLater ||
-                    (need == products::kRadiositySolution && !later.solutionOptional);
+                if (need == products::kRadiositySolution)
+                    shape.withoutSolutionLater =
+                        std::min(shape.withoutSolutionLater, later.withoutSolution);
             }
             const SpecularAtReuse specular = later.specularAtReuse;
             shape.specularTracedLater =

@@ -108,7 +108,7 @@ std::unique_ptr<Pass> RadiosityPass::fromScript(const ScriptTable& table, const 
 void RadiosityPass::adapt(const PipelineShape& shape) {
     view_ = !shape.neededLater.count(products::kRadiositySolution);
     shown_ = view_ || shape.solutionShownLater;
-    optional_ = !view_ && !shape.solutionRequiredLater;
+    withoutSolution_ = view_ ? WithoutSolution::kCannot : shape.withoutSolutionLater;
     const bool hierarchical = std::holds_alternative<RadiositySettings>(settings_);
     takesCaustics_ = caustics_ == Caustics::Auto && shape.madeBefore.count(products::kCausticMap) &&
                      hierarchical;
@@ -159,7 +159,10 @@ Deadline shareOfTimeLeft(const PassContext& context, double share) {
 // traces without it (the corrected hybrid becomes the path tracer), and its share is larger: on the
 // modern hall the corrected hybrid's error per second of path tracing is a third of the path
 // tracer's (docs/benchmarks.md), so a solve that ends before two thirds of the time still pays;
-// a solution nothing can replace gets half.
+// any other solution gets half. A preview that traces without the solution (WithoutSolution::
+// kTraces) takes the coarser solution too, but has the solve abandoned if it would not end
+// within the whole time limit: on the grey-white room at 4 s the coarsest solve took 8.7 s and
+// left one sample per pixel.
 Deadline solveDeadline(const PassContext& context, bool optional) {
     return shareOfTimeLeft(context, optional ? 2.0 / 3.0 : 0.5);
 }
@@ -215,9 +218,14 @@ void RadiosityPass::prepare(PassContext& context) {
                 : std::vector<FluxDeposit>{};
         auto solver =
             std::make_unique<RadiositySolver>(context.scene, *mesh_, *hierarchical, deposits);
-        const Deadline deadline = solveDeadline(context, optional_);
-        solver->solve(&progress, deadline,
-                      optional_ ? LinkRefiner::OnTimeUp::Abandon : LinkRefiner::OnTimeUp::Coarsen);
+        const bool optional = withoutSolution_ == WithoutSolution::kSame;
+        // A preview that can trace without the solution has it abandoned only when it would not
+        // end within the whole time limit (WithoutSolution::kTraces).
+        const Deadline abandonAt =
+            withoutSolution_ == WithoutSolution::kTraces ? context.deadline : std::nullopt;
+        solver->solve(&progress, solveDeadline(context, optional),
+                      optional ? LinkRefiner::OnTimeUp::Abandon : LinkRefiner::OnTimeUp::Coarsen,
+                      abandonAt);
         const bool abandoned = solver->abandoned();
         if (transfers_ && context.contents.specular && !abandoned &&
             !deadlinePassed(context.deadline))

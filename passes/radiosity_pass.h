@@ -99,10 +99,11 @@ class RadiosityPass : public SamplingPass {
     Caustics caustics_ = Caustics::Exclude;
     Transfer transfer_ = Transfer::Auto;
     int64_t transferPhotons_ = kAutoTransferPhotons;
-    bool transfers_ = false;      // the solution carries its light through specular surfaces
-    bool view_ = true;            // forms the image (no later pass reuses the solution)
-    bool shown_ = true;           // the view or a later pass shows its light at points
-    bool optional_ = false;       // only passes that do without the solution reuse it
+    bool transfers_ = false;  // the solution carries its light through specular surfaces
+    bool view_ = true;        // forms the image (no later pass reuses the solution)
+    bool shown_ = true;       // the view or a later pass shows its light at points
+    // What the passes that reuse the solution do without it; kCannot for a view.
+    WithoutSolution withoutSolution_ = WithoutSolution::kCannot;
     bool takesCaustics_ = false;  // the solution takes a caustic map made before the pass
     const Scene* scene_ = nullptr;
     std::shared_ptr<RadiosityMesh> mesh_;

@@ -2,6 +2,7 @@
 // points of the direct light.
 #include "radiosity/element_exposure.h"
 
+#include "radiosity/solve_progress.h"
 #include "radiosity/solver_nodes.h"
 
 #include <tbb/combinable.h>
@@ -57,7 +58,8 @@ void ElementExposure::resize() {
 // parent's fraction becomes its children's mean, so that the children's exposed areas add up to
 // their parent's and the push and pull keep the energy; a parent that becomes partly covered so
 // gets points too.
-uint64_t ElementExposure::compute(const std::vector<int>& elements) {
+uint64_t ElementExposure::compute(const std::vector<int>& elements, SolveProgress* progress,
+                                  const std::function<bool(size_t done)>& stop, bool* stopped) {
     tbb::combinable<uint64_t> rays([] { return uint64_t(0); });
     const auto samplesOf = [&](int e) {
         return static_cast<int>(std::clamp(std::ceil(mesh_.area(e) / mesh_.minElementArea(e)),
@@ -71,20 +73,28 @@ uint64_t ElementExposure::compute(const std::vector<int>& elements) {
                             coincident_, count);
     };
     std::vector<std::optional<CoverSamples>> kept(elements.size());
-    tbb::parallel_for(size_t(0), elements.size(), [&](size_t i) {
-        const int e = elements[i];
-        CoverSamples c = coverSamples(scene_, mesh_, e, samplesOf(e), coveringGap(e), kPointSeed,
-                                      coincident_, rays.local());
-        const bool partly = c.partlyCovered();
-        if (partly && c.points.size() < static_cast<size_t>(kCoverSamples))
-            c = keptSamples(e, rays.local());
-        for (const bool side : {true, false}) {
-            const bool sealed = sealed_.faces(mesh_.sceneMesh(e), mesh_.sceneTriangle(e), side);
-            fractions_[node(e, side)] = sealed ? 0.0f : c.exposedFraction(side);
-        }
-        if (partly)
-            kept[i] = std::move(c);
-    });
+    const bool completed = parallelForWithProgress(
+        elements.size(), progress,
+        [&](size_t i) {
+            const int e = elements[i];
+            CoverSamples c = coverSamples(scene_, mesh_, e, samplesOf(e), coveringGap(e),
+                                          kPointSeed, coincident_, rays.local());
+            const bool partly = c.partlyCovered();
+            if (partly && c.points.size() < static_cast<size_t>(kCoverSamples))
+                c = keptSamples(e, rays.local());
+            for (const bool side : {true, false}) {
+                const bool sealed = sealed_.faces(mesh_.sceneMesh(e), mesh_.sceneTriangle(e), side);
+                fractions_[node(e, side)] = sealed ? 0.0f : c.exposedFraction(side);
+            }
+            if (partly)
+                kept[i] = std::move(c);
+        },
+        stop);
+    if (!completed) {
+        if (stopped)
+            *stopped = true;
+        return rays.combine(std::plus<uint64_t>());
+    }
     for (size_t i = 0; i < elements.size(); ++i) {
         if (kept[i])
             coverSamples_.insert_or_assign(elements[i], std::move(*kept[i]));

@@ -23,6 +23,7 @@
 namespace penumbra {
 
 class Scene;
+class SolveProgress;
 
 // Indexed by the solver's nodes (solver_nodes.h); a cluster is always exposed.
 class ElementExposure {
@@ -37,8 +38,12 @@ class ElementExposure {
     // Makes room for the mesh's new elements, wholly exposed until compute() says otherwise.
     void resize();
     // Exposed fractions of both sides of `elements`, then of their ancestors. Returns the rays it
-    // cast.
-    uint64_t compute(const std::vector<int>& elements);
+    // cast. Advances `progress`, if given, by the elements done. `stop`, when given, is asked
+    // between chunks of elements with the number done: once it says yes, the rest is not
+    // computed and *stopped is set: the fractions are incomplete, for a solve that is abandoned.
+    uint64_t compute(const std::vector<int>& elements, SolveProgress* progress = nullptr,
+                     const std::function<bool(size_t done)>& stop = nullptr,
+                     bool* stopped = nullptr);
 
     // The fraction of the element side's area that is not covered (coverSamples,
     // element_sampling.h): a leaf's L, H and D are the means over that part, the only one that

@@ -167,11 +167,12 @@ void LinkRefiner::refine(std::vector<RefinePair> batch, std::vector<PendingLink>
         std::vector<RefinePair> next;
         // In slices, so that a time limit is seen within a level too (setTimeLimit).
         for (size_t begin = 0; begin < batch.size(); begin += kRefineSlice) {
-            const bool late = timeIsUp() || (linking_ && oracleTooLong());
-            if (late && linking_ && onTimeUp_ == OnTimeUp::Abandon) {
+            if (abandonLinking()) {
                 abandoned_ = true;
                 return;
             }
+            const bool late = timeIsUp() || (linking_ && onTimeUp_ == OnTimeUp::Coarsen &&
+                                             oracleTooLong(deadline_, 4));
             coarse_ = coarse_ || late;
             const size_t end = std::min(batch.size(), begin + kRefineSlice);
             refineSlice(std::span(batch).subspan(begin, end - begin), next, pending);
@@ -230,9 +231,10 @@ void LinkRefiner::refineSlice(std::span<const RefinePair> batch, std::vector<Ref
     }
 }
 
-void LinkRefiner::setTimeLimit(Deadline deadline, OnTimeUp onTimeUp) {
+void LinkRefiner::setTimeLimit(Deadline deadline, OnTimeUp onTimeUp, Deadline abandonAt) {
     deadline_ = deadline;
     onTimeUp_ = onTimeUp;
+    abandonAt_ = onTimeUp == OnTimeUp::Abandon ? deadline : abandonAt;
 }
 
 // The links the oracle decides must all be evaluated after it, which costs more than deciding
@@ -241,12 +243,15 @@ void LinkRefiner::setTimeLimit(Deadline deadline, OnTimeUp onTimeUp) {
 // deadline, leaving the path tracer 13 s of 64). A solve that coarsens instead cannot stop the
 // evaluation, so its oracle stops at a quarter: there, with the links as they stood at its
 // deadline, the evaluation took 2.5 times as long as the oracle.
-bool LinkRefiner::oracleTooLong() const {
-    if (!deadline_)
+bool LinkRefiner::oracleTooLong(Deadline until, int share) const {
+    if (!until)
         return false;
     const auto now = std::chrono::steady_clock::now();
-    const int share = onTimeUp_ == OnTimeUp::Abandon ? 2 : 4;
-    return now - linkingStart_ > (*deadline_ - linkingStart_) / share;
+    return now - linkingStart_ > (*until - linkingStart_) / share;
+}
+
+bool LinkRefiner::abandonLinking() const {
+    return linking_ && abandonAt_ && (deadlinePassed(abandonAt_) || oracleTooLong(abandonAt_, 2));
 }
 
 bool LinkRefiner::timeIsUp() {
@@ -306,18 +311,20 @@ void LinkRefiner::evaluateLinks(const std::vector<PendingLink>& pending, const s
         progress_->beginStage(step + ": form factors and visibility", n);
     }
     tbb::combinable<uint64_t> rays([] { return uint64_t(0); });
-    // Once the deadline has passed, abandoned (no link is made) or, between chunks, made
-    // coarser: the links after take their visibility adaptively. A solve that may be abandoned
-    // is abandoned as soon as the links evaluated so far say the rest will not be done by the
-    // deadline, so that the time goes to the pass that traces without it.
-    const bool mayAbandon = linking_ && onTimeUp_ == OnTimeUp::Abandon;
+    // Once the deadline has passed, made coarser between chunks: the links after take their
+    // visibility adaptively. The initial linking of a solve that may be abandoned (abandonAt_) is
+    // abandoned (no link is made) once that time has passed, or as soon as the links evaluated
+    // so far say the rest will not be done by then, so that the time goes to the pass that
+    // traces without it.
+    const Deadline abandonAt = linking_ ? abandonAt_ : std::nullopt;
     const auto evaluationStart = std::chrono::steady_clock::now();
     const auto late = [&](size_t done) {
-        if (timeIsUp())
-            return mayAbandon;
+        timeIsUp();
+        if (!abandonAt)
+            return false;
         const double secondsLeft =
-            std::chrono::duration<double>(*deadline_ - std::chrono::steady_clock::now()).count();
-        return mayAbandon &&
+            std::chrono::duration<double>(*abandonAt - std::chrono::steady_clock::now()).count();
+        return secondsLeft <= 0.0 ||
                projectedToOverrun(secondsSince(evaluationStart), done, n, secondsLeft);
     };
     const bool complete = parallelForWithProgress(

@@ -63,9 +63,12 @@ class LinkRefiner {
     // small cluster's pairs within itself are left out), a coarser solution at the price of the
     // links it has decided; Abandon, during the initial linking, stops and makes no more links
     // (abandoned()), for a caller that can do without the solution, also as soon as the rate of
-    // the links' evaluation says they will not all be made by the deadline.
+    // the links' evaluation says they will not all be made by the deadline. `abandonAt` is when
+    // the initial linking is abandoned, as Abandon does at the deadline (it is the deadline then):
+    // with Coarsen, a later time, for a caller that traces without the solution rather than wait
+    // for one past its whole time limit.
     enum class OnTimeUp { Coarsen, Abandon };
-    void setTimeLimit(Deadline deadline, OnTimeUp onTimeUp);
+    void setTimeLimit(Deadline deadline, OnTimeUp onTimeUp, Deadline abandonAt = std::nullopt);
     bool abandoned() const { return abandoned_; }
     // HSA91's initial linking, with the oracle on the current radiance and epsilon times
     // `epsilonScale` (coarser links for a solve that refines them in rounds as time allows).
@@ -110,10 +113,12 @@ class LinkRefiner {
     bool exceedsThreshold(int receiver, int source, const LinkErrors& errors) const;
     // Whether the deadline has passed (setTimeLimit); sets coarse_ when it has.
     bool timeIsUp();
-    // Whether the initial linking's oracle has used its share of the time its linking had left
-    // (half if the solve may be abandoned, else a quarter): the solve is then abandoned or
-    // coarsened (OnTimeUp).
-    bool oracleTooLong() const;
+    // Whether the initial linking's oracle has used 1/share of the time its linking had left to
+    // `until` (half of it to abandonAt_: the solve is then abandoned; a quarter of it to the
+    // deadline, with OnTimeUp::Coarsen: the links are then made as they stand).
+    bool oracleTooLong(Deadline until, int share) const;
+    // Whether the initial linking is to be abandoned now (abandonAt_).
+    bool abandonLinking() const;
     bool smallTransfer(int source, float Fmax) const;
     // The softening radius of cluster kernels: coarseRadius_ once coarse_, else none.
     float softRadius() const { return coarse_ ? coarseRadius_ : 0.0f; }
@@ -137,6 +142,7 @@ class LinkRefiner {
     Color relativeFloor_{0.0f};
     Deadline deadline_;
     OnTimeUp onTimeUp_ = OnTimeUp::Coarsen;
+    Deadline abandonAt_;    // setTimeLimit
     bool linking_ = false;  // in linkPatches(), where the refinement may be abandoned
     std::chrono::steady_clock::time_point linkingStart_;  // when linkPatches() began
     // The time was up (or, in the initial linking, its oracle had used half of what was left):

@@ -350,54 +350,85 @@ void RadiositySolver::endStage(const std::string& summary) {
 // oracle on the initial radiance (emission and punctual direct light), then alternate solving and
 // refining the links with the current radiance until nothing is refined.
 void RadiositySolver::solve(SolveProgress* progress, Deadline deadline,
-                            LinkRefiner::OnTimeUp onTimeUp) {
+                            LinkRefiner::OnTimeUp onTimeUp, Deadline abandonAt) {
     progress_ = progress;
     refiner_->setProgress(progress);
-    refiner_->setTimeLimit(deadline, onTimeUp);
+    if (onTimeUp == LinkRefiner::OnTimeUp::Abandon)
+        abandonAt = deadline;
+    refiner_->setTimeLimit(deadline, onTimeUp, abandonAt);
     const auto timeUp = [&] { return deadlinePassed(deadline); };
     const auto start = std::chrono::steady_clock::now();
     const auto linksAndLeaves = [&] {
         return std::to_string(linkCount()) + " links, " + std::to_string(mesh_.leafCount()) +
                " leaves";
     };
-
-    // Stage 1: the punctual lights' direct light; the initial radiance is Le + rho D.
-    const std::vector<int> leaves = mesh_.leafElements();
-    std::vector<int> elements(mesh_.elementCount());
-    std::iota(elements.begin(), elements.end(), 0);
-    rays_ += exposure_->compute(elements);
-    const bool punctual = !punctualLights(scene_).empty() || scene_.environment();
-    if (punctual)
-        beginStage("direct light of the punctual lights", leaves.size());
-    // As soon as this stage alone is projected to take half of the time left (the links take
-    // longer still), a solve that may be abandoned is (the grey-white room lit by its sky: 7 s
-    // of direct light, then the linking abandoned; the path tracer lost 9 s of its 16), and one
-    // that may not samples the rest of the leaves with one point each (there: 21 s of direct
-    // light for a solve given 8 s).
-    const double secondsLeft =
-        deadline ? std::chrono::duration<double>(*deadline - start).count() : 0.0;
-    const auto directStart = std::chrono::steady_clock::now();
-    const bool mayAbandon = onTimeUp == LinkRefiner::OnTimeUp::Abandon;
-    using Pace = DirectIrradiance::Pace;
-    std::optional<size_t> hurriedFrom;  // the leaves done when it began to hurry
-    const std::function<Pace(size_t)> pace = [&](size_t done) {
-        if (hurriedFrom || !projectedToOverrun(secondsSince(directStart), done, leaves.size(),
-                                               0.5 * secondsLeft - secondsSince(start)))
-            return hurriedFrom ? Pace::Hurry : Pace::Full;
-        if (mayAbandon)
-            return Pace::Stop;
-        hurriedFrom = done;
-        return Pace::Hurry;
+    // The seconds from the start to a deadline (0 without one).
+    const auto secondsTo = [&](Deadline d) {
+        return d ? std::chrono::duration<double>(*d - start).count() : 0.0;
     };
-    bool stopped = false;
-    rays_ += irradiance_->compute(leaves, progress_,
-                                  deadline ? pace : std::function<Pace(size_t)>{}, &stopped);
-    if (stopped) {
+    const auto abandon = [&](bool staged) {
         abandoned_ = stoppedRefining_ = true;
-        endStage("abandoned: its time is up");
+        if (staged)
+            endStage("abandoned: its time is up");
         secondsDirect_ = secondsTotal_ = secondsSince(start);
         refiner_->setProgress(nullptr);
         progress_ = nullptr;
+    };
+
+    // Stage 1: the punctual lights' direct light; the initial radiance is Le + rho D. First the
+    // elements' exposed fractions, abandoned once projected to take more than a third of the time
+    // to abandonAt: the two stages after it each took longer than it on the grey-white room (at
+    // 4 s: exposure 2.4 s, the direct light with one point per leaf 2.9 s, the coarse links
+    // 2.8 s), so the solve could not end by then.
+    const std::vector<int> leaves = mesh_.leafElements();
+    std::vector<int> elements(mesh_.elementCount());
+    std::iota(elements.begin(), elements.end(), 0);
+    const std::function<bool(size_t)> exposureOverruns = [&](size_t done) {
+        const double elapsed = secondsSince(start);
+        return projectedToOverrun(elapsed, done, elements.size(),
+                                  secondsTo(abandonAt) / 3.0 - elapsed);
+    };
+    beginStage("exposed parts of the elements", elements.size());
+    bool stopped = false;
+    rays_ +=
+        exposure_->compute(elements, progress_, abandonAt ? exposureOverruns : nullptr, &stopped);
+    if (stopped) {
+        abandon(true);
+        return;
+    }
+    endStage(std::to_string(elements.size()) + " elements");
+    const bool punctual = !punctualLights(scene_).empty() || scene_.environment();
+    if (punctual)
+        beginStage("direct light of the punctual lights", leaves.size());
+    // As soon as this stage alone is projected to take half of the time to the deadline (the
+    // links take longer still), a solve that is abandoned then is (OnTimeUp::Abandon; the
+    // grey-white room lit by its sky: 7 s of direct light, then the linking abandoned; the path
+    // tracer lost 9 s of its 16), and any other samples the rest of the leaves with one point
+    // each (there: 21 s of direct light for a solve given 8 s); at that pace it is abandoned once
+    // projected to take half of the time to abandonAt.
+    using Pace = DirectIrradiance::Pace;
+    std::optional<size_t> hurriedFrom;  // the leaves done when it began to hurry
+    auto paceStart = std::chrono::steady_clock::now();
+    size_t paceFrom = 0;  // the leaves done when the current pace began
+    const auto overruns = [&](size_t done, double secondsToEnd) {
+        return projectedToOverrun(secondsSince(paceStart), done - paceFrom,
+                                  leaves.size() - paceFrom, secondsToEnd - secondsSince(start));
+    };
+    const std::function<Pace(size_t)> pace = [&](size_t done) {
+        if (!hurriedFrom && overruns(done, 0.5 * secondsTo(deadline))) {
+            if (onTimeUp == LinkRefiner::OnTimeUp::Abandon)
+                return Pace::Stop;
+            hurriedFrom = paceFrom = done;
+            paceStart = std::chrono::steady_clock::now();
+        }
+        if (hurriedFrom && abandonAt && overruns(done, 0.5 * secondsTo(abandonAt)))
+            return Pace::Stop;
+        return hurriedFrom ? Pace::Hurry : Pace::Full;
+    };
+    rays_ += irradiance_->compute(leaves, progress_,
+                                  deadline ? pace : std::function<Pace(size_t)>{}, &stopped);
+    if (stopped) {
+        abandon(punctual);
         return;
     }
     radiance_->pushPullAll();

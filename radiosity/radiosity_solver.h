@@ -135,9 +135,14 @@ class RadiositySolver : public RadiositySolution {
     // (LinkRefiner::OnTimeUp::Coarsen; the last gather and the vertex values are quick). With
     // OnTimeUp::Abandon, an initial linking that has not ended by the deadline abandons the solve
     // instead (abandoned()): the solution is then not usable, for a caller that can do without it
-    // (the corrected hybrid traces what it would have held).
+    // (the corrected hybrid traces what it would have held). `abandonAt`, with Coarsen, is a later
+    // time past which the solve is abandoned all the same (a preview that traces without the
+    // solution; LinkRefiner::setTimeLimit); with Abandon it is the deadline. The stages before
+    // the links are made are abandoned as soon as they are projected to leave the solve no time
+    // to end by then (the exposure, the direct light: solve()).
     void solve(SolveProgress* progress = nullptr, Deadline deadline = std::nullopt,
-               LinkRefiner::OnTimeUp onTimeUp = LinkRefiner::OnTimeUp::Coarsen);
+               LinkRefiner::OnTimeUp onTimeUp = LinkRefiner::OnTimeUp::Coarsen,
+               Deadline abandonAt = std::nullopt);
     bool abandoned() const { return abandoned_; }
 
     // Extended transfer through specular surfaces (paths D S+ D, which the links do not carry):
@@ -249,7 +254,7 @@ class RadiositySolver : public RadiositySolution {
     int firstCreaseLeaf_ = std::numeric_limits<int>::max();  // the first element it made, if run
     int rounds_ = 0;
     bool stoppedRefining_ = false;      // the deadline ended the refinement
-    bool abandoned_ = false;            // ... during the initial linking, with OnTimeUp::Abandon
+    bool abandoned_ = false;            // ... before the links were all made (abandonAt)
     SideVertexValues vertexReflected_;  // the reflected radiance, per mesh vertex and side
     SideVertexValues vertexIndirect_;   // its indirect part (elementIndirect)
     SideVertexValues vertexRest_;       // with shown_ or indirectCorners_: what their corners leave

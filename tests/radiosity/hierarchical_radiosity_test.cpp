@@ -325,9 +325,9 @@ TEST(HierarchicalRadiosity, ReportsItsStagesToTheProgressSink) {
     solver.solve(&progress);
     ASSERT_TRUE(solver.converged());
 
-    std::vector<std::string> expected = {"direct light of the punctual lights",
-                                         "linking: refinement oracle",
-                                         "linking: form factors and visibility", "gather"};
+    std::vector<std::string> expected = {
+        "exposed parts of the elements", "direct light of the punctual lights",
+        "linking: refinement oracle", "linking: form factors and visibility", "gather"};
     ASSERT_GE(progress.stages.size(), expected.size() + 2);
     for (size_t i = 0; i < expected.size(); ++i)
         EXPECT_EQ(progress.stages[i].name, expected[i]);

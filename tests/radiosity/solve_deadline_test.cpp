@@ -1,9 +1,11 @@
 // The hierarchical solver under a time limit (RadiositySolver::solve's deadline): a solve whose
 // time is up before it starts still ends with a whole solution, coarser, that keeps the closed
 // furnace's answer; told to abandon, it stops without links; and the hybrid pipeline whose solve
-// is abandoned renders the path tracer's very image, every path traced on; the rate of a solve's
-// links says early whether they will be made by the deadline; a solve that may not be abandoned
-// hurries its direct light instead.
+// is abandoned renders the path tracer's very image, every path traced on, as does the
+// distribution preview whose solve could not end within the time limit; the rate of a stage's
+// work says early whether it will end in time, so that the element exposure or the direct light
+// gives the solve up within the stage; a solve nothing replaces (the radiosity view) hurries its
+// direct light instead.
 #include "core/image_io.h"
 #include "radiosity/radiosity_mesh.h"
 #include "radiosity/radiosity_solver.h"
@@ -130,73 +132,142 @@ TEST(SolveDeadline, HybridWithoutTimeForTheSolveRendersThePathTracersImage) {
     EXPECT_GT(luminanceMean(traced), 0.0);
 }
 
-// A floor of 180 000 triangles, 10 x 10 m, written to `dir` as floor.gltf: under a sky, its
-// direct light on every patch (the solve's first stage) takes seconds.
-std::string writeManyTriangleFloor(const TempDir& dir) {
-    GltfBuilder scene;
+// A grey floor of cells x cells squares of two triangles each, `size` metres across, centred on
+// the origin in the plane y = 0, facing up.
+void addGridFloor(GltfBuilder& scene, int cells, float size) {
     const int grey = scene.addMaterial({.baseColor = Color(0.5f)});
-    constexpr int kCells = 300;
     std::vector<Vec3> positions;
     std::vector<uint32_t> indices;
-    for (int j = 0; j <= kCells; ++j)
-        for (int i = 0; i <= kCells; ++i)
+    for (int j = 0; j <= cells; ++j)
+        for (int i = 0; i <= cells; ++i)
             positions.push_back(
-                Vec3(float(i) / kCells * 10.0f - 5.0f, 0.0f, 5.0f - float(j) / kCells * 10.0f));
-    for (int j = 0; j < kCells; ++j) {
-        for (int i = 0; i < kCells; ++i) {
-            const uint32_t a = uint32_t(j * (kCells + 1) + i), b = a + 1,
-                           c = a + uint32_t(kCells + 1), d = c + 1;
+                Vec3((float(i) / cells - 0.5f) * size, 0.0f, (0.5f - float(j) / cells) * size));
+    for (int j = 0; j < cells; ++j) {
+        for (int i = 0; i < cells; ++i) {
+            const uint32_t a = uint32_t(j * (cells + 1) + i), b = a + 1,
+                           c = a + uint32_t(cells + 1), d = c + 1;
             indices.insert(indices.end(), {a, b, d, a, d, c});
         }
     }
     scene.addMesh(positions, indices, grey);
+}
+
+// A floor of 180 000 triangles, 10 x 10 m, written to `dir` as floor.gltf: under a sky, its
+// elements' exposure and their direct light (the solve's first stage) take seconds.
+std::string writeManyTriangleFloor(const TempDir& dir) {
+    GltfBuilder scene;
+    addGridFloor(scene, 300, 10.0f);
     scene.write(dir.file("floor.gltf"));
     return dir.file("floor.gltf");
 }
 
-TEST(SolveDeadline, TheHybridGivesUpASolveWhoseDirectLightAloneTakesHalfItsShare) {
-    // A second's time limit cannot pay for the floor's direct light: the solve is abandoned
-    // within that stage, once a twentieth of it says so, not after it.
-    TempDir dir("solve-deadline-direct");
+// A floor of 2 048 triangles, 2 x 2 m, under 1 024 point lights 1 m above it, written to `dir`
+// as lamps.gltf: its elements' exposure takes a few thousandths of a second, their direct light
+// from every lamp seconds.
+std::string writeFloorUnderManyLamps(const TempDir& dir) {
+    GltfBuilder scene;
+    addGridFloor(scene, 32, 2.0f);
+    constexpr int kLampRows = 32;
+    for (int j = 0; j < kLampRows; ++j)
+        for (int i = 0; i < kLampRows; ++i)
+            scene.addLight({.intensity = 0.01f,
+                            .position = {(float(i) + 0.5f) / kLampRows * 2.0f - 1.0f, 1.0f,
+                                         (float(j) + 0.5f) / kLampRows * 2.0f - 1.0f}});
+    scene.write(dir.file("lamps.gltf"));
+    return dir.file("lamps.gltf");
+}
+
+TEST(SolveDeadline, TheHybridGivesUpASolveWhoseExposureAloneTakesAThirdOfItsShare) {
+    // A second's time limit cannot pay for the exposure of the floor's 180 000 patches: the
+    // solve is abandoned within that stage, once a quarter of a second says so (or, on a machine
+    // that ends it sooner, within the direct light after it), never in the linking.
+    TempDir dir("solve-deadline-exposure");
     CliResult run;
     renderImage(writeManyTriangleFloor(dir), dir.file("floor.exr"),
                 "--pipeline hybrid --sky uniform --time-limit 1 --width 8 --height 8 --threads 2",
                 &run);
+    const bool exposure =
+        run.output.find("exposed parts of the elements: abandoned") != std::string::npos;
+    const bool direct =
+        run.output.find("direct light of the punctual lights: abandoned") != std::string::npos;
+    EXPECT_TRUE(exposure || direct) << run.output;
+    EXPECT_EQ(run.output.find("linking: refinement oracle"), std::string::npos) << run.output;
+    EXPECT_NE(run.output.find("abandoned_by_time_limit: yes"), std::string::npos) << run.output;
+}
+
+TEST(SolveDeadline, TheHybridGivesUpASolveWhoseDirectLightAloneTakesHalfItsShare) {
+    // A second's time limit cannot pay for the direct light of a thousand lamps on the floor:
+    // the solve is abandoned within that stage, once a twentieth of it says so, not after it.
+    TempDir dir("solve-deadline-direct");
+    CliResult run;
+    renderImage(writeFloorUnderManyLamps(dir), dir.file("floor.exr"),
+                "--pipeline hybrid --time-limit 1 --width 8 --height 8 --threads 2", &run);
+    EXPECT_NE(run.output.find("exposed parts of the elements: 2048 elements"), std::string::npos)
+        << run.output;
     EXPECT_NE(run.output.find("direct light of the punctual lights: abandoned"), std::string::npos)
         << run.output;
     EXPECT_NE(run.output.find("abandoned_by_time_limit: yes"), std::string::npos) << run.output;
 }
 
-TEST(SolveDeadline, TheDistributionPreviewHurriesTheDirectLightItHasNoTimeFor) {
-    // The distribution preview cannot do without its solution: once the floor's direct light is
-    // projected to take half of the solve's share, the rest of the leaves take one point each
-    // (on the grey-white room, 21 s of direct light became 1.7 s), and the solve goes on.
+TEST(SolveDeadline, TheRadiosityViewHurriesTheDirectLightItHasNoTimeFor) {
+    // Nothing replaces the radiosity view's solution: once the floor's direct light is projected
+    // to take half of the solve's share, the rest of the leaves take one point each (on the
+    // grey-white room, 21 s of direct light became 1.7 s), and the solve goes on.
     TempDir dir("solve-deadline-hurry");
     CliResult run;
-    const Image image = renderImage(
-        writeManyTriangleFloor(dir), dir.file("floor.exr"),
-        "--pipeline distribution --sky uniform --time-limit 1 --width 8 --height 8 --threads 2",
-        &run);
+    const Image image =
+        renderImage(writeFloorUnderManyLamps(dir), dir.file("floor.exr"),
+                    "--pipeline radiosity --time-limit 1 --width 8 --height 8 --threads 2", &run);
     EXPECT_NE(run.output.find("leaves, one point each from leaf"), std::string::npos) << run.output;
     EXPECT_NE(run.output.find("abandoned_by_time_limit: no"), std::string::npos) << run.output;
     EXPECT_GT(luminanceMean(image), 0.0);
 }
 
-TEST(SolveDeadline, DistributionWithoutTimeForTheSolveStillSeesTheIndirectLight) {
-    // The distribution preview cannot do without its solution: with no time for the solve it
-    // takes the coarse one (the links made as they stand), not none. Its whole image's mean
-    // luminance against the stored path-traced reference, at one sample per pixel: without the
-    // solution's indirect light it would be a third dark; the bound is about three times the
-    // largest deviation of the full solve's one-sample images (seeds 0-3: at most 3.6 %).
+TEST(SolveDeadline, ThePreviewsGiveUpASolveThatCannotEndWithinTheTimeLimit) {
+    // The previews take a coarse solution while one can be had within the time limit, and trace
+    // without one when it cannot: a second cannot pay for the exposure of 180 000 patches and
+    // their direct light (on the grey-white room at 4 s, the coarsest solve took 8.7 s and left
+    // one sample per pixel). The distribution pass then path-traces the indirect light, the
+    // preview path pass traces every path on.
+    TempDir dir("solve-deadline-previews");
+    const std::string floor = writeManyTriangleFloor(dir);
+    for (const std::string pipeline : {"distribution", "hybrid-preview"}) {
+        CliResult run;
+        const Image image =
+            renderImage(floor, dir.file(pipeline + ".exr"),
+                        "--pipeline " + pipeline +
+                            " --sky uniform --time-limit 1 --width 8 --height 8 --threads 2",
+                        &run);
+        EXPECT_NE(run.output.find("abandoned_by_time_limit: yes"), std::string::npos) << run.output;
+        if (pipeline == "distribution")
+            EXPECT_NE(run.output.find("indirect_path_traced: yes"), std::string::npos)
+                << run.output;
+        EXPECT_GT(luminanceMean(image), 0.0);
+    }
+}
+
+TEST(SolveDeadline, DistributionWithoutTimeForTheSolveRendersThePathTracersImage) {
+    // A time limit far shorter than any solve: the distribution preview's radiosity pass
+    // abandons its solve, and the distribution pass traces every path, so that with the same
+    // seed its image is the `reference` pipeline's, pixel for pixel (the box has no specular
+    // surface, so no caustic pass runs). Against the stored path-traced reference too: without
+    // the indirect light the image would be a third dark; the bound is about three times the
+    // largest deviation of one-sample images (seeds 0-3 of the full solve: at most 3.6 %).
     const std::string folder = std::string(PENUMBRA_SOURCE_DIR) + "/scenes/cornell-box";
+    const std::string options = "--time-limit 0.001 --width 128 --height 128 --threads 2 --seed 3";
     TempDir dir("solve-deadline-distribution");
     CliResult run;
-    const Image image = renderImage(
-        folder + "/cornell-box.gltf", dir.file("distribution.exr"),
-        "--pipeline distribution --time-limit 0.001 --width 128 --height 128 --threads 2 --seed 3",
-        &run);
-    EXPECT_NE(run.output.find("abandoned_by_time_limit: no"), std::string::npos) << run.output;
-    EXPECT_NE(run.output.find("refinement_stopped_by_time_limit: yes"), std::string::npos);
+    const Image image = renderImage(folder + "/cornell-box.gltf", dir.file("distribution.exr"),
+                                    "--pipeline distribution " + options, &run);
+    EXPECT_NE(run.output.find("abandoned_by_time_limit: yes"), std::string::npos) << run.output;
+    EXPECT_NE(run.output.find("indirect_path_traced: yes"), std::string::npos) << run.output;
+    const Image traced = renderImage(folder + "/cornell-box.gltf", dir.file("reference.exr"),
+                                     "--pipeline reference " + options);
+    ASSERT_EQ(image.pixels().size(), traced.pixels().size());
+    size_t differing = 0;
+    for (size_t i = 0; i < image.pixels().size(); ++i)
+        differing += image.pixels()[i] != traced.pixels()[i];
+    EXPECT_EQ(differing, 0u);
     const double ratio = luminanceMean(image) / luminanceMean(readImage(folder + "/reference.exr"));
     std::cout << "mean luminance over the reference's: " << ratio << "\n";
     EXPECT_NEAR(ratio, 1.0, 0.1);
