@@ -315,17 +315,25 @@ void LinkRefiner::evaluateLinks(const std::vector<PendingLink>& pending, const s
     // visibility adaptively. The initial linking of a solve that may be abandoned (abandonAt_) is
     // abandoned (no link is made) once that time has passed, or as soon as the links evaluated
     // so far say the rest will not be done by then, so that the time goes to the pass that
-    // traces without it.
+    // traces without it. The rest is projected at its recent pace (RecentPace), since the links
+    // went coarse if they did, as coarse links are quicker; one that goes coarse before it would
+    // be abandoned is judged only at that pace (on the grey-white room's 16-s previews, whose
+    // share ends early in the evaluation, the pace before it gave up links made by 14 s).
     const Deadline abandonAt = linking_ ? abandonAt_ : std::nullopt;
+    RecentPace pace(n);
     const auto evaluationStart = std::chrono::steady_clock::now();
     const auto late = [&](size_t done) {
-        timeIsUp();
+        if (!coarse_ && timeIsUp())
+            pace.restart(secondsSince(evaluationStart), done);
         if (!abandonAt)
             return false;
         const double secondsLeft =
             std::chrono::duration<double>(*abandonAt - std::chrono::steady_clock::now()).count();
-        return secondsLeft <= 0.0 ||
-               projectedToOverrun(secondsSince(evaluationStart), done, n, secondsLeft);
+        if (secondsLeft <= 0.0)
+            return true;
+        if (!coarse_ && *deadline_ < *abandonAt)
+            return false;
+        return pace.overruns(secondsSince(evaluationStart), done, secondsLeft);
     };
     const bool complete = parallelForWithProgress(
         n, progress_,

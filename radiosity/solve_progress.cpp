@@ -84,4 +84,16 @@ bool projectedToOverrun(double elapsed, size_t done, size_t total, double second
     return remaining > secondsLeft;
 }
 
+bool RecentPace::overruns(double elapsed, size_t done, double secondsLeft) {
+    looks_.push_back({elapsed, done});
+    const auto [start, doneAtStart] = looks_.front();
+    if ((done - doneAtStart) * kShareToJudge < total_ - doneAtStart)
+        return false;
+    const auto from =
+        std::lower_bound(looks_.begin(), looks_.end(), start + 0.5 * (elapsed - start),
+                         [](const Look& l, double t) { return l.seconds < t; });
+    return projectedToOverrun(elapsed - from->seconds, done - from->done, total_ - from->done,
+                              secondsLeft);
+}
+
 }  // namespace penumbra

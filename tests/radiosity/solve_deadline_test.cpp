@@ -108,6 +108,36 @@ TEST(SolveDeadline, TheLinksRateSaysWhetherTheyWillBeMadeInTime) {
     EXPECT_FALSE(projectedToOverrun(1.0, 0, 1000, -1.0));
 }
 
+TEST(SolveDeadline, TheRecentPaceLeavesOutASlowStart) {
+    // 1000 items, looked at every 10: the first 100 take 2 s, the rest 0.5 s per 100. At 300
+    // items (3 s, past a quarter), the pace from the start projects 7 s more; the pace since half
+    // of the time (the look at 1.5 s, 75 items: 225 items in 1.5 s) 4.7 s; the truth is 3.5 s.
+    const auto secondsAt = [](size_t done) {
+        return done <= 100 ? 0.02 * double(done) : 2.0 + 0.005 * double(done - 100);
+    };
+    RecentPace pace(1000);
+    bool overruns = false;
+    for (size_t done = 10; done <= 300; done += 10)
+        overruns = pace.overruns(secondsAt(done), done, 6.0);
+    EXPECT_FALSE(overruns);
+    EXPECT_TRUE(projectedToOverrun(secondsAt(300), 300, 1000, 6.0));
+    EXPECT_TRUE(pace.overruns(secondsAt(310), 310, 4.0));  // 4.35 s projected
+    // Restarted when the work became quicker (at 100 items, 2 s), only the quick pace counts,
+    // once a quarter of the 900 items left then are done: at 400 items 3 s projected, at 410
+    // 2.95 s; at 300, no verdict yet.
+    RecentPace restarted(1000);
+    for (size_t done = 10; done <= 400; done += 10) {
+        if (done == 100)
+            restarted.restart(secondsAt(done), done);
+        overruns = restarted.overruns(secondsAt(done), done, done == 300 ? 0.0 : 3.1);
+        if (done == 300) {
+            EXPECT_FALSE(overruns);
+        }
+    }
+    EXPECT_FALSE(overruns);
+    EXPECT_TRUE(restarted.overruns(secondsAt(410), 410, 2.9));
+}
+
 TEST(SolveDeadline, HybridWithoutTimeForTheSolveRendersThePathTracersImage) {
     // A time limit far shorter than any solve: the corrected hybrid's radiosity pass abandons
     // its solve and the path pass traces every path on, so that with the same seed its image is
@@ -239,9 +269,10 @@ TEST(SolveDeadline, ThePreviewsGiveUpASolveThatCannotEndWithinTheTimeLimit) {
                             " --sky uniform --time-limit 1 --width 8 --height 8 --threads 2",
                         &run);
         EXPECT_NE(run.output.find("abandoned_by_time_limit: yes"), std::string::npos) << run.output;
-        if (pipeline == "distribution")
+        if (pipeline == "distribution") {
             EXPECT_NE(run.output.find("indirect_path_traced: yes"), std::string::npos)
                 << run.output;
+        }
         EXPECT_GT(luminanceMean(image), 0.0);
     }
 }
