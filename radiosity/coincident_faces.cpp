@@ -1,6 +1,7 @@
 #include "radiosity/coincident_faces.h"
 
 #include "core/scene.h"
+#include "radiosity/box_grid.h"
 #include "radiosity/radiosity_mesh.h"
 
 #include <algorithm>
@@ -110,33 +111,48 @@ CoincidentFaces::CoincidentFaces(const RadiosityMesh& mesh) : covers_(mesh.patch
         }
         return overlapInPlane(ca, cb, na, std::max(longestEdge(ca), longestEdge(cb)));
     };
-    // Sweep and prune along x: `active` holds the patches whose boxes may still reach the next.
-    std::vector<int> active;
     const auto cover = [&](int covered, int by, bool front, bool back, bool sameFacing) {
         covers_[static_cast<size_t>(covered)].push_back(
             {by, front, back, sameFacing, mesh.corners(by), mesh.normal(by)});
     };
-    for (const int p : order) {
+    // A box's slack, so that corners a few float ulps apart still overlap.
+    const auto slackOf = [](const Box& b) {
+        return static_cast<float>(kRelativePlaneTolerance) *
+               glm::max(glm::max(glm::abs(b.lo.x), glm::abs(b.hi.x)), 1.0f);
+    };
+    // The candidates: the pairs whose boxes, grown by their slack, overlap (box_grid.h), each
+    // taken from the later of the two in the order of the boxes' lower x, in that order, so that
+    // a patch's covers come in a fixed order.
+    std::vector<int> rank(static_cast<size_t>(n));
+    for (int i = 0; i < n; ++i)
+        rank[static_cast<size_t>(order[static_cast<size_t>(i)])] = i;
+    std::vector<GridBox> grown(static_cast<size_t>(n));
+    for (int p = 0; p < n; ++p) {
         const Box& b = boxes[static_cast<size_t>(p)];
-        const float slack = static_cast<float>(kRelativePlaneTolerance) *
-                            glm::max(glm::max(glm::abs(b.lo.x), glm::abs(b.hi.x)), 1.0f);
-        std::erase_if(active,
-                      [&](int q) { return boxes[static_cast<size_t>(q)].hi.x < b.lo.x - slack; });
-        for (const int q : active) {
-            const Box& o = boxes[static_cast<size_t>(q)];
-            const Vec3 pad(slack);
-            if (glm::any(glm::lessThan(o.hi + pad, b.lo)) ||
-                glm::any(glm::lessThan(b.hi + pad, o.lo)) || !coincident(p, q))
-                continue;
-            if (glm::dot(mesh.normal(p), mesh.normal(q)) > 0.0f) {
-                const int winner = wins(p, q) ? p : q;
-                cover(winner == p ? q : p, winner, true, true, true);
-            } else {
-                cover(p, q, false, true, false);  // each one's back lies on the other's front
-                cover(q, p, false, true, false);
-            }
+        const glm::dvec3 slack(slackOf(b));
+        grown[static_cast<size_t>(p)] = {glm::dvec3(b.lo) - slack, glm::dvec3(b.hi) + slack};
+    }
+    std::vector<std::pair<int, int>> candidates;  // (rank of the later, rank of the earlier)
+    for (const auto& [i, j] : overlappingPairs(grown)) {
+        const int ri = rank[i], rj = rank[j];
+        candidates.emplace_back(std::max(ri, rj), std::min(ri, rj));
+    }
+    std::sort(candidates.begin(), candidates.end());
+    for (const auto& [later, earlier] : candidates) {
+        const int p = order[static_cast<size_t>(later)], q = order[static_cast<size_t>(earlier)];
+        const Box& b = boxes[static_cast<size_t>(p)];
+        const Box& o = boxes[static_cast<size_t>(q)];
+        const Vec3 pad(slackOf(b));
+        if (glm::any(glm::lessThan(o.hi + pad, b.lo)) ||
+            glm::any(glm::lessThan(b.hi + pad, o.lo)) || !coincident(p, q))
+            continue;
+        if (glm::dot(mesh.normal(p), mesh.normal(q)) > 0.0f) {
+            const int winner = wins(p, q) ? p : q;
+            cover(winner == p ? q : p, winner, true, true, true);
+        } else {
+            cover(p, q, false, true, false);  // each one's back lies on the other's front
+            cover(q, p, false, true, false);
         }
-        active.push_back(p);
     }
     for (int p = 0; p < n; ++p) {
         if (!covers_[static_cast<size_t>(p)].empty()) {

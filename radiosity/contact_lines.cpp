@@ -44,7 +44,7 @@ ContactLines::ContactLines(const Scene& scene, float minTriangleArea, float minS
     const double diagonal = glm::length(glm::dvec3(scene.bounds().diagonal()));
     const double tolerance = kOnPlaneFraction * diagonal;
     const glm::dvec3 pad(tolerance);
-    const BoxGrid grid(held, diagonal, tolerance);
+    const BoxGrid grid(boxesOf(held), diagonal, tolerance);
     for (uint32_t i = 0; i < held.size(); ++i) {
         const HeldTriangle& t = held[i];
         if (t.area < double(minTriangleArea))

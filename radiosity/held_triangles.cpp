@@ -8,14 +8,6 @@
 
 namespace penumbra {
 
-namespace {
-
-// The grid's cells: not smaller than this fraction of the scene's diagonal.
-constexpr double kMinCellFraction = 1.0 / 256.0;
-constexpr double kMaxCellsAcross = 64.0;
-
-}  // namespace
-
 std::vector<HeldTriangle> heldTriangles(const Scene& scene) {
     std::vector<HeldTriangle> held;
     const std::span<const Mesh> meshes = scene.meshes();
@@ -150,20 +142,12 @@ void SegmentsByTriangle::set(const HeldTriangle& t, std::vector<TriangleSegment>
         segments_[triangleKey(t.mesh, t.triangle)] = std::move(segments);
 }
 
-BoxGrid::BoxGrid(const std::vector<HeldTriangle>& triangles, double diagonal, double pad)
-    : seen_(triangles.size(), 0) {
-    double meanExtent = 0.0, largestExtent = 0.0;
-    for (const HeldTriangle& h : triangles) {
-        const glm::dvec3 extent = h.hi - h.lo;
-        meanExtent += glm::length(extent);
-        largestExtent = std::max({largestExtent, extent.x, extent.y, extent.z});
-    }
-    meanExtent /= double(std::max<size_t>(triangles.size(), 1));
-    cell_ = std::max({meanExtent, kMinCellFraction * diagonal, largestExtent / kMaxCellsAcross});
-    for (uint32_t i = 0; i < triangles.size(); ++i) {
-        forCells(triangles[i].lo - glm::dvec3(pad), triangles[i].hi + glm::dvec3(pad),
-                 [&](uint64_t k) { cells_[k].push_back(i); });
-    }
+std::vector<GridBox> boxesOf(const std::vector<HeldTriangle>& triangles) {
+    std::vector<GridBox> boxes;
+    boxes.reserve(triangles.size());
+    for (const HeldTriangle& t : triangles)
+        boxes.push_back({t.lo, t.hi});
+    return boxes;
 }
 
 }  // namespace penumbra

@@ -1,11 +1,12 @@
 // What the finders of discontinuity lines share (contact_lines.h, shadow_lines.h): the scene
 // triangles the radiosity mesh holds, in double precision; a segment of a triangle's plane
-// clipped to the triangle as a cut (triangle_pieces.h) takes it; a hash grid of their boxes for
-// the candidates near a region; the longest segments kept when a triangle has too many; and the
-// segments found, by triangle, as the mesh reads them.
+// clipped to the triangle as a cut (triangle_pieces.h) takes it; their boxes for a grid of the
+// candidates near a region (box_grid.h); the longest segments kept when a triangle has too many;
+// and the segments found, by triangle, as the mesh reads them.
 #pragma once
 
 #include "core/math.h"
+#include "radiosity/box_grid.h"
 #include "radiosity/triangle_pieces.h"
 
 #include <array>
@@ -76,50 +77,7 @@ class SegmentsByTriangle {
     std::unordered_map<uint64_t, std::vector<TriangleSegment>> segments_;
 };
 
-// A hash grid of boxes: the ids of the triangles whose box overlaps each cell.
-class BoxGrid {
-  public:
-    // Cells about as wide as the triangles' mean extent, at least kMinCellFraction of the
-    // scene's diagonal, and no triangle across more than kMaxCellsAcross of them; each box
-    // grown by `pad`.
-    BoxGrid(const std::vector<HeldTriangle>& triangles, double diagonal, double pad);
-
-    // visit(id) once for each triangle whose box overlaps the box [lo, hi] (no id twice).
-    template <typename Visit>
-    void forNear(const glm::dvec3& lo, const glm::dvec3& hi, const Visit& visit) const {
-        ++stamp_;
-        forCells(lo, hi, [&](uint64_t k) {
-            const auto it = cells_.find(k);
-            if (it == cells_.end())
-                return;
-            for (const uint32_t id : it->second) {
-                if (seen_[id] == stamp_)
-                    continue;
-                seen_[id] = stamp_;
-                visit(id);
-            }
-        });
-    }
-
-  private:
-    template <typename Visit>
-    void forCells(const glm::dvec3& lo, const glm::dvec3& hi, const Visit& visit) const {
-        const glm::ivec3 a = glm::ivec3(glm::floor(lo / cell_));
-        const glm::ivec3 b = glm::ivec3(glm::floor(hi / cell_));
-        for (int z = a.z; z <= b.z; ++z)
-            for (int y = a.y; y <= b.y; ++y)
-                for (int x = a.x; x <= b.x; ++x)
-                    visit(key(x, y, z));
-    }
-    static uint64_t key(int x, int y, int z) {
-        const auto bits = [](int v) { return uint64_t(uint32_t(v) & 0x1fffffu); };
-        return (bits(x) << 42) | (bits(y) << 21) | bits(z);
-    }
-    double cell_ = 1.0;
-    std::unordered_map<uint64_t, std::vector<uint32_t>> cells_;
-    // Which query last visited each id: forNear() is not for concurrent use.
-    mutable std::vector<uint64_t> seen_;
-    mutable uint64_t stamp_ = 0;
-};
+// The triangles' boxes, for a grid of them (box_grid.h).
+std::vector<GridBox> boxesOf(const std::vector<HeldTriangle>& triangles);
 
 }  // namespace penumbra
