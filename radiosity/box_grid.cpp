@@ -74,8 +74,8 @@ std::vector<std::pair<uint32_t, uint32_t>> overlappingPairs(const std::vector<Gr
     };
     const auto forCells = [&](int l, const GridBox& b, const auto& visit) {
         const double cell = base * std::ldexp(1.0, l);
-        const glm::ivec3 lo = glm::ivec3(glm::floor(b.lo / cell));
-        const glm::ivec3 hi = glm::ivec3(glm::floor(b.hi / cell));
+        const glm::ivec3 lo = gridCell(b.lo, cell);
+        const glm::ivec3 hi = gridCell(b.hi, cell);
         for (int z = lo.z; z <= hi.z; ++z)
             for (int y = lo.y; y <= hi.y; ++y)
                 for (int x = lo.x; x <= hi.x; ++x)

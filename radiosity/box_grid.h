@@ -18,6 +18,14 @@ struct GridBox {
     glm::dvec3 lo{0.0}, hi{0.0};
 };
 
+// The cell of a grid of cells `cell` wide that holds x, its coordinates clamped well inside an
+// int's range: boxes far from the origin, clamped to one cell, are candidates of each other,
+// which only costs their overlap test.
+inline glm::ivec3 gridCell(const glm::dvec3& x, double cell) {
+    constexpr double kFarthest = double(1 << 30);
+    return glm::ivec3(glm::clamp(glm::floor(x / cell), -kFarthest, kFarthest));
+}
+
 // The ids (indices into the boxes it was made of) of the boxes that overlap each cell.
 class BoxGrid {
   public:
@@ -45,8 +53,8 @@ class BoxGrid {
   private:
     template <typename Visit>
     void forCells(const glm::dvec3& lo, const glm::dvec3& hi, const Visit& visit) const {
-        const glm::ivec3 a = glm::ivec3(glm::floor(lo / cell_));
-        const glm::ivec3 b = glm::ivec3(glm::floor(hi / cell_));
+        const glm::ivec3 a = gridCell(lo, cell_);
+        const glm::ivec3 b = gridCell(hi, cell_);
         for (int z = a.z; z <= b.z; ++z)
             for (int y = a.y; y <= b.y; ++y)
                 for (int x = a.x; x <= b.x; ++x)

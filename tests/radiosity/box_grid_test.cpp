@@ -1,6 +1,6 @@
 // The candidates a hash grid of boxes gives (radiosity/box_grid.h) against every pair tested
 // directly: boxes from a millimetre to tens of metres, as a room's patches are (a floor's and a
-// lamp's), flat ones (a wall's patches) and ones that touch.
+// lamp's), flat ones (a wall's patches), ones that touch and ones far from the origin.
 #include "radiosity/box_grid.h"
 
 #include <gtest/gtest.h>
@@ -34,6 +34,9 @@ std::vector<GridBox> mixedBoxes() {
     // A box that ends exactly where the next begins counts as overlapping.
     boxes.push_back({glm::dvec3(20.0), glm::dvec3(21.0)});
     boxes.push_back({glm::dvec3(21.0, 20.0, 20.0), glm::dvec3(22.0, 21.0, 21.0)});
+    // Two small boxes a million kilometres away, past an int's range of the finest cells.
+    boxes.push_back({glm::dvec3(1e9), glm::dvec3(1e9 + 0.01)});
+    boxes.push_back({glm::dvec3(1e9 + 0.005), glm::dvec3(1e9 + 0.02)});
     return boxes;
 }
 
@@ -52,6 +55,7 @@ TEST(BoxGrid, OverlappingPairsAreEveryOverlappingPairOnce) {
     }
     EXPECT_GT(expected.size(), 1000u);
     EXPECT_EQ(found, expected);
+    EXPECT_TRUE(found.count({uint32_t(boxes.size() - 4), uint32_t(boxes.size() - 3)}));
     EXPECT_TRUE(found.count({uint32_t(boxes.size() - 2), uint32_t(boxes.size() - 1)}));
 }
 
@@ -62,8 +66,9 @@ TEST(BoxGrid, ForNearVisitsEveryOverlappingBox) {
         std::set<uint32_t> visited;
         grid.forNear(boxes[i].lo, boxes[i].hi, [&](uint32_t j) { visited.insert(j); });
         for (uint32_t j = 0; j < boxes.size(); ++j) {
-            if (overlap(boxes[i], boxes[j]))
+            if (overlap(boxes[i], boxes[j])) {
                 EXPECT_TRUE(visited.count(j)) << i << " misses " << j;
+            }
         }
     }
 }
