@@ -45,8 +45,9 @@ class CoincidentFaces {
         bool front;
     };
 
-    // Finds the coincident pairs among the mesh's patches (sweep and prune over their bounding
-    // boxes along x, then the exact tests), O(n log n + candidate pairs).
+    // Finds the coincident pairs among the mesh's patches (the pairs whose bounding boxes
+    // overlap, overlappingPairs in box_grid.h, then the exact tests), O(n log n + candidate
+    // pairs).
     explicit CoincidentFaces(const RadiosityMesh& mesh);
 
     // The side that replaces side `front` of patch `patch` at its point p: p lies within
