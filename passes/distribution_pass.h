@@ -4,7 +4,8 @@
 // crudest preview, the seed's Eq. 2), set by the user or taken from a radiosity solution's mean.
 //
 // Contribution: image layer "distribution" (light paths of distributionLightPaths()), and the
-// requested AOVs.
+// requested AOVs. Without its solution (a solve abandoned at the time limit) the layer is the
+// path tracer's instead: every path but the caustics L S+ D S* E another pass counts.
 #pragma once
 
 #include "passes/pass_parameters.h"
