@@ -23,8 +23,11 @@ using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
 using VertexBase = CGAL::Delaunay_mesh_vertex_base_2<Kernel>;
 using FaceBase = CGAL::Delaunay_mesh_face_base_2<Kernel>;
 using Structure = CGAL::Triangulation_data_structure_2<VertexBase, FaceBase>;
+// Segments may cross: Exact_predicates_tag computes their crossings in the kernel's inexact
+// constructions, as CGAL documents for this kernel (Exact_intersections_tag is for kernels with
+// exact constructions; with this one the mesher crashed on nearly coincident segments).
 using Triangulation =
-    CGAL::Constrained_Delaunay_triangulation_2<Kernel, Structure, CGAL::Exact_intersections_tag>;
+    CGAL::Constrained_Delaunay_triangulation_2<Kernel, Structure, CGAL::Exact_predicates_tag>;
 using Criteria = CGAL::Delaunay_mesh_size_criteria_2<Triangulation>;
 using Mesher = CGAL::Delaunay_mesher_2<Triangulation, Criteria>;
 using Point = Kernel::Point_2;

@@ -205,5 +205,34 @@ TEST(TrianglePieces, AnEndPointBesideASegmentIsPutOnIt) {
     EXPECT_GT(*std::min_element(apart.begin(), apart.end()), 0.0);
 }
 
+TEST(TrianglePieces, NearlyCoincidentSegmentsAcrossAThinTriangle) {
+    // A wall strip of the modern hall, 4.8 m by 0.63 m, cut by the shadow lines of several
+    // area lights' corners: four segments within a few millimetres of one another, merged into
+    // one at the 3.4-cm resolution, and one crossing them at a shallow angle.
+    const std::array<Vec3, 3> corners = {Vec3(-2.04502153f, 1.77202487f, -2.52968502f),
+                                         Vec3(-6.82829905f, 1.1402967f, -2.52968502f),
+                                         Vec3(-6.82829905f, 1.76932502f, -2.52968502f)};
+    const std::vector<TriangleSegment> segments = {
+        {Vec3(0.273036659f, 0.726963341f, 0.0f), Vec3(0.0f, 0.725791454f, 0.274208575f)},
+        {Vec3(0.273079008f, 0.726920962f, 0.0f), Vec3(0.0f, 0.726920962f, 0.273079008f)},
+        {Vec3(0.0733873546f, 0.861758769f, 0.0648538619f),
+         Vec3(0.0733873546f, 0.00766411424f, 0.918948531f)},
+        {Vec3(0.273036838f, 0.726963162f, 0.0f), Vec3(0.0f, 0.725791276f, 0.274208724f)},
+        {Vec3(0.274947703f, 0.725052297f, 0.0f), Vec3(0.0f, 0.725052297f, 0.274947703f)}};
+    const TrianglePieces cut = cutTriangle(corners, segments, 0.0337145887f);
+    double sum = 0.0;
+    for (const std::array<uint32_t, 3>& piece : cut.pieces) {
+        std::array<glm::dvec3, 3> p;
+        for (size_t c = 0; c < 3; ++c) {
+            const Vec3& b = cut.points[piece[c]];
+            p[c] = glm::dvec3(b.x * corners[0] + b.y * corners[1] + b.z * corners[2]);
+        }
+        sum += glm::length(glm::cross(p[1] - p[0], p[2] - p[0])) / 2.0;
+    }
+    const glm::dvec3 e1(corners[1] - corners[0]), e2(corners[2] - corners[0]);
+    EXPECT_NEAR(sum, glm::length(glm::cross(e1, e2)) / 2.0, 1e-4) << "the pieces cover it";
+    EXPECT_GE(cut.pieces.size(), 3u);
+}
+
 }  // namespace
 }  // namespace penumbra
