@@ -206,9 +206,10 @@ TEST(TrianglePieces, AnEndPointBesideASegmentIsPutOnIt) {
 }
 
 TEST(TrianglePieces, NearlyCoincidentSegmentsAcrossAThinTriangle) {
-    // A wall strip of the modern hall, 4.8 m by 0.63 m, cut by the shadow lines of several
-    // area lights' corners: four segments within a few millimetres of one another, merged into
-    // one at the 3.4-cm resolution, and one crossing them at a shallow angle.
+    // A wall strip of the modern hall, 4.8 m by 0.63 m, as a trial of shadow lines from the
+    // area lights' corners cut it (docs/radiosity.md): four segments within a few millimetres of
+    // one another, merged into one at the 3.4-cm resolution, and one crossing them at a shallow
+    // angle. With Exact_intersections_tag the mesher crashed on it.
     const std::array<Vec3, 3> corners = {Vec3(-2.04502153f, 1.77202487f, -2.52968502f),
                                          Vec3(-6.82829905f, 1.1402967f, -2.52968502f),
                                          Vec3(-6.82829905f, 1.76932502f, -2.52968502f)};
