@@ -167,14 +167,11 @@ TEST(ContactLines, ThePiecesCoverEachTriangleAndLocateFindsEveryPoint) {
     }
 }
 
-// The pieces of a triangle 5 m on a side cut by a segment and another that ends `gap` (in
-// barycentric units) beside it: their signed areas in the triangle's plane.
-std::vector<double> piecesBesideASegment(float gap, float resolution) {
-    const std::array<Vec3, 3> corners = {Vec3(0, 0, 0), Vec3(5, 0, 0), Vec3(0, 0, -5)};
-    const std::vector<TriangleSegment> segments = {
-        {Vec3(0.2f, 0.6f, 0.2f), Vec3(0.6f, 0.2f, 0.2f)},
-        {Vec3(0.4f, 0.4f - gap, 0.2f + gap), Vec3(0.3f, 0.3f, 0.4f)}};
-    const TrianglePieces cut = cutTriangle(corners, segments, resolution);
+// The pieces' areas in the plane of the triangle they cut, signed: positive for a piece that
+// runs counter-clockwise as the triangle does.
+std::vector<double> pieceAreas(const std::array<Vec3, 3>& corners, const TrianglePieces& cut) {
+    const glm::dvec3 normal = glm::normalize(
+        glm::cross(glm::dvec3(corners[1] - corners[0]), glm::dvec3(corners[2] - corners[0])));
     std::vector<double> areas;
     for (const std::array<uint32_t, 3>& piece : cut.pieces) {
         std::array<glm::dvec3, 3> p;
@@ -182,10 +179,19 @@ std::vector<double> piecesBesideASegment(float gap, float resolution) {
             const Vec3& b = cut.points[piece[c]];
             p[c] = glm::dvec3(b.x * corners[0] + b.y * corners[1] + b.z * corners[2]);
         }
-        // The triangle faces +Y (its corners run counter-clockwise seen from above).
-        areas.push_back(0.5 * glm::cross(p[1] - p[0], p[2] - p[0]).y);
+        areas.push_back(0.5 * glm::dot(glm::cross(p[1] - p[0], p[2] - p[0]), normal));
     }
     return areas;
+}
+
+// The pieces of a triangle 5 m on a side cut by a segment and another that ends `gap` (in
+// barycentric units) beside it: their signed areas in the triangle's plane.
+std::vector<double> piecesBesideASegment(float gap, float resolution) {
+    const std::array<Vec3, 3> corners = {Vec3(0, 0, 0), Vec3(5, 0, 0), Vec3(0, 0, -5)};
+    const std::vector<TriangleSegment> segments = {
+        {Vec3(0.2f, 0.6f, 0.2f), Vec3(0.6f, 0.2f, 0.2f)},
+        {Vec3(0.4f, 0.4f - gap, 0.2f + gap), Vec3(0.3f, 0.3f, 0.4f)}};
+    return pieceAreas(corners, cutTriangle(corners, segments, resolution));
 }
 
 TEST(TrianglePieces, AnEndPointBesideASegmentIsPutOnIt) {
@@ -222,14 +228,8 @@ TEST(TrianglePieces, NearlyCoincidentSegmentsAcrossAThinTriangle) {
         {Vec3(0.274947703f, 0.725052297f, 0.0f), Vec3(0.0f, 0.725052297f, 0.274947703f)}};
     const TrianglePieces cut = cutTriangle(corners, segments, 0.0337145887f);
     double sum = 0.0;
-    for (const std::array<uint32_t, 3>& piece : cut.pieces) {
-        std::array<glm::dvec3, 3> p;
-        for (size_t c = 0; c < 3; ++c) {
-            const Vec3& b = cut.points[piece[c]];
-            p[c] = glm::dvec3(b.x * corners[0] + b.y * corners[1] + b.z * corners[2]);
-        }
-        sum += glm::length(glm::cross(p[1] - p[0], p[2] - p[0])) / 2.0;
-    }
+    for (const double area : pieceAreas(corners, cut))
+        sum += std::abs(area);
     const glm::dvec3 e1(corners[1] - corners[0]), e2(corners[2] - corners[0]);
     EXPECT_NEAR(sum, glm::length(glm::cross(e1, e2)) / 2.0, 1e-4) << "the pieces cover it";
     EXPECT_GE(cut.pieces.size(), 3u);
