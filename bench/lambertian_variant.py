@@ -21,9 +21,9 @@ The copy's buffers, images and the environment recorded in `scenes[0].extras` po
 original files by relative paths, so it can be written anywhere on the same file system.
 """
 import json
-import os
 import sys
-import urllib.parse
+
+from gltf_copy import rebase_files, write_document
 
 # The base colour of a material whose texture had an alpha mask, which the copy drops.
 MASKED_BASE_COLOR = [0.5, 0.5, 0.5, 1.0]
@@ -55,21 +55,7 @@ def main():
     source, out = sys.argv[1], sys.argv[2]
     with open(source) as f:
         document = json.load(f)
-    # From the copy's folder back to the original's, as a relative URI.
-    back = os.path.relpath(os.path.dirname(os.path.abspath(source)),
-                           os.path.dirname(os.path.abspath(out)))
-
-    def rebase(uri):
-        if uri.startswith("data:"):
-            return uri
-        return urllib.parse.quote(back) + "/" + uri
-
-    for item in document.get("buffers", []) + document.get("images", []):
-        if "uri" in item:
-            item["uri"] = rebase(item["uri"])
-    for environment in (document.get("scenes", [{}])[0].get("extras", {})
-                        .get("mitsuba_environment", [])):
-        environment["file"] = os.path.join(back, environment["file"])
+    rebase_files(document, source, out)
     for material in document.get("materials", []):
         lambertian(material)
     used = set(document.get("extensionsUsed", [])) - set(DROPPED_EXTENSIONS)
@@ -77,9 +63,7 @@ def main():
     if "extensionsRequired" in document:
         document["extensionsRequired"] = [e for e in document["extensionsRequired"]
                                           if e not in DROPPED_EXTENSIONS]
-    os.makedirs(os.path.dirname(os.path.abspath(out)), exist_ok=True)
-    with open(out, "w") as f:
-        json.dump(document, f)
+    write_document(document, out)
     print("%s: %d materials made Lambertian" % (out, len(document.get("materials", []))))
 
 

@@ -73,6 +73,45 @@ void applyScript(const PassScript& script, RenderOptions& options) {
         options.outputs = script.outputs;
 }
 
+// The light groups of `scene`; UsageError when it has no light to split.
+std::vector<LightGroup> requireLightGroups(const Scene& scene) {
+    std::vector<LightGroup> groups = lightGroups(scene.description());
+    if (groups.empty()) {
+        throw UsageError(scene.description().file +
+                         ": --light-groups: the scene has no light source to split into groups");
+    }
+    return groups;
+}
+
+// Whether every pass of `pipeline` that runs files its image by light group within one render.
+bool splitsLightGroupsAtOnce(const Pipeline& pipeline) {
+    for (size_t i = 0; i < pipeline.passes().size(); ++i) {
+        if (!pipeline.skipped(i) && !pipeline.passes()[i]->splitsLightGroups())
+            return false;
+    }
+    return true;
+}
+
+// Renders `scene` once with `pipeline`, whose passes all split their images by light group
+// (splitsLightGroupsAtOnce), each group's layer "light.GROUP".
+PipelineRun renderLightGroupsAtOnce(Pipeline& pipeline, const Scene& scene,
+                                    const SceneContents& contents, const Camera& camera,
+                                    const RenderSettings& settings) {
+    const std::vector<LightGroup> groups = requireLightGroups(scene);
+    if (!settings.quiet) {
+        std::string names;
+        for (const LightGroup& group : groups)
+            names += (names.empty() ? "" : ", ") + group.name;
+        std::cerr << "penumbra: light groups, in one render: " << names << "\n";
+    }
+    RenderSettings splitSettings = settings;
+    splitSettings.lightGroups = true;
+    PipelineRun run = runPipeline(pipeline, scene, contents, camera, splitSettings);
+    for (const LightGroup& group : groups)
+        run.lightGroups.push_back("light." + group.name);
+    return run;
+}
+
 // Renders `scene` once per light group (core/light_groups.h), each group alone with a pipeline
 // of its own from `makePipeline`, at `settings` with an equal share of the time limit: the run's
 // layers are the sums of the groups' (beauty, light-path components, passes' contributions and
@@ -83,11 +122,7 @@ PipelineRun renderLightGroups(
     const Scene& scene, const Camera& camera, const RenderSettings& settings,
     const std::function<Pipeline()>& makePipeline,
     const std::function<void(const Pipeline&, const RenderSettings&, const std::string&)>& report) {
-    const std::vector<LightGroup> groups = lightGroups(scene.description());
-    if (groups.empty()) {
-        throw UsageError(scene.description().file +
-                         ": --light-groups: the scene has no light source to split into groups");
-    }
+    const std::vector<LightGroup> groups = requireLightGroups(scene);
     RenderSettings groupSettings = settings;
     groupSettings.timeLimit = settings.timeLimit / double(groups.size());
     PipelineRun sum;
@@ -207,7 +242,10 @@ void render(RenderOptions& options) {
         }
     };
     PipelineRun run;
-    if (options.lightGroups) {
+    if (options.lightGroups && splitsLightGroupsAtOnce(pipeline)) {
+        run = renderLightGroupsAtOnce(pipeline, *scene, contents, camera, settings);
+        report(pipeline, settings, "");
+    } else if (options.lightGroups) {
         const auto makePipeline = [&] {
             return script ? makeScriptPipeline(*script, overrides)
                           : makePipelinePreset(options.pipeline, settings);
@@ -352,10 +390,11 @@ Command addRenderCommand(CLI::App& app) {
                         "light-path components emission, direct, indirect, specular (which sum "
                         "to the beauty; `components` = all four)");
     command->add_flag("--light-groups", options->lightGroups,
-                      "Render each light source group alone and add a layer light.GROUP per "
-                      "group (light-NAME, luminaire-NAME, emissive-MATERIAL, sky or "
-                      "environment, sun); the beauty is their sum. Costs one render per group: "
-                      "--time-limit is shared among them");
+                      "Split the image by light source group, a layer light.GROUP per group "
+                      "(light-NAME, luminaire-NAME, emissive-MATERIAL, sky or environment, "
+                      "sun); the beauty is their sum. The path tracer splits them in one "
+                      "render; the pipelines that reuse a radiosity solution render once per "
+                      "group, --time-limit shared among them");
     return [options] { render(*options); };
 }
 

@@ -156,8 +156,11 @@ bool EnvironmentLight::inSun(const Vec3& towards) const {
 }
 
 Color EnvironmentLight::radiance(const Vec3& towards) const {
-    const Color map = mapRadiance(towards);
-    return inSun(towards) ? map + Color(sun_->radiance()) : map;
+    return mapRadiance(towards) + sunRadiance(towards);
+}
+
+Color EnvironmentLight::sunRadiance(const Vec3& towards) const {
+    return inSun(towards) ? Color(sun_->radiance()) : Color(0.0f);
 }
 
 Color EnvironmentLight::mapRadiance(const Vec3& towards) const {

@@ -65,6 +65,9 @@ class EnvironmentLight : public Light {
     // centres, wrapping around in u and clamped in v, times the scale, plus the sun's radiance
     // inside its disc.
     Color radiance(const Vec3& towards) const;
+    // The sun's part of radiance(towards): its disc's radiance inside it, zero elsewhere and
+    // without a sun.
+    Color sunRadiance(const Vec3& towards) const;
     // The horizontal illuminance (lux, the Rec. 709 luminance of the irradiance) that the map,
     // without the sun, gives an upward plane with nothing around it: the integral of
     // radiance() cos(theta) over the upper hemisphere in world axes, by the midpoint rule on

@@ -101,4 +101,87 @@ SceneDescription litOnlyBy(const SceneDescription& scene, const LightGroup& grou
     return lit;
 }
 
+namespace {
+
+// Each light's set in a LightGroupSplit's selection: its group's index; the environment's, the
+// map's group (or the sun's when the map is black); a light of no group (an environment that
+// sends no light) joins set 0, where it is never drawn for lack of power.
+std::vector<uint32_t> selectionSets(const Scene& scene, const std::vector<int>& groupOfLight,
+                                    int mapGroup, int sunGroup) {
+    std::vector<uint32_t> sets(groupOfLight.size(), 0);
+    for (size_t i = 0; i < sets.size(); ++i) {
+        const int group = int(i) == scene.environmentLightIndex()
+                              ? (mapGroup >= 0 ? mapGroup : sunGroup)
+                              : groupOfLight[i];
+        sets[i] = uint32_t(std::max(group, 0));
+    }
+    return sets;
+}
+
+}  // namespace
+
+LightGroupSplit::LightGroupSplit(const Scene& scene)
+    : scene_(scene), groups_(lightGroups(scene.description())) {
+    const SceneDescription& description = scene.description();
+    groupOfMaterial_.assign(description.materials.size(), -1);
+    std::vector<int> groupOfPunctual(description.lights.size(), -1);
+    std::vector<int> groupOfLuminaire(description.luminaires.size(), -1);
+    for (size_t g = 0; g < groups_.size(); ++g) {
+        const LightGroup& group = groups_[g];
+        for (const size_t i : group.punctualLights)
+            groupOfPunctual[i] = int(g);
+        for (const size_t i : group.luminaires)
+            groupOfLuminaire[i] = int(g);
+        for (const size_t i : group.materials)
+            groupOfMaterial_[i] = int(g);
+        if (group.environmentMap)
+            mapGroup_ = int(g);
+        if (group.sun)
+            sunGroup_ = int(g);
+    }
+    using Kind = Scene::LightOrigin::Kind;
+    for (size_t i = 0; i < scene.lights().size(); ++i) {
+        const Scene::LightOrigin& origin = scene.lightOrigin(i);
+        groupOfLight_.push_back(origin.kind == Kind::Punctual    ? groupOfPunctual[origin.index]
+                                : origin.kind == Kind::Luminaire ? groupOfLuminaire[origin.index]
+                                : origin.kind == Kind::Emissive  ? groupOfMaterial_[origin.index]
+                                                                 : -1);
+    }
+    selection_ =
+        LightSelection(scene.lights(), selectionSets(scene, groupOfLight_, mapGroup_, sunGroup_));
+}
+
+void LightGroupSplit::file(uint32_t light, const Vec3& towards, const Color& value,
+                           std::span<Color> layers) const {
+    if (int(light) == scene_.environmentLightIndex()) {
+        fileEscaped(towards, value, layers);
+        return;
+    }
+    if (groupOfLight_[light] >= 0)
+        layers[size_t(groupOfLight_[light])] += value;
+}
+
+void LightGroupSplit::fileEmission(uint32_t material, const Color& value,
+                                   std::span<Color> layers) const {
+    if (groupOfMaterial_[material] >= 0)
+        layers[size_t(groupOfMaterial_[material])] += value;
+}
+
+void LightGroupSplit::fileEscaped(const Vec3& towards, const Color& value,
+                                  std::span<Color> layers) const {
+    const EnvironmentLight* environment = scene_.environment();
+    if (!environment)
+        return;
+    // The sun's share of the radiance from `towards`, per channel.
+    const Color all = environment->radiance(towards);
+    const Color sun = environment->sunRadiance(towards);
+    Color sunShare(0.0f);
+    for (int c = 0; c < 3; ++c)
+        sunShare[c] = all[c] > 0.0f ? sun[c] / all[c] : 0.0f;
+    if (sunGroup_ >= 0)
+        layers[size_t(sunGroup_)] += value * sunShare;
+    if (mapGroup_ >= 0)
+        layers[size_t(mapGroup_)] += value * (Color(1.0f) - sunShare);
+}
+
 }  // namespace penumbra

@@ -5,8 +5,11 @@
 // image of the whole scene is the sum of the images of the scene lit by each group alone.
 #pragma once
 
+#include "core/light_sampler.h"
+#include "core/scene.h"
 #include "core/scene_description.h"
 
+#include <span>
 #include <string>
 #include <vector>
 
@@ -34,5 +37,38 @@ std::vector<LightGroup> lightGroups(const SceneDescription& scene);
 // environment's map black when the group lacks it, its sun removed when the group lacks it, and
 // the environment removed when the group has neither.
 SceneDescription litOnlyBy(const SceneDescription& scene, const LightGroup& group);
+
+// The light of one render filed by group, for a tracer whose every contribution comes from one
+// light (the path tracer without a reused solution): next-event estimation draws one light from
+// each group (selection(), whose sets are the groups, the environment's map and sun sharing one
+// as they are one light), so each group's layer is as noisy as a render of that group alone, and
+// each contribution is added to the layer of its light's group. The layers sum to the image.
+class LightGroupSplit {
+  public:
+    // The groups of `scene`'s description (lightGroups()); the scene must outlive the split.
+    explicit LightGroupSplit(const Scene& scene);
+
+    const std::vector<LightGroup>& groups() const { return groups_; }
+    const LightSelection& selection() const { return selection_; }
+
+    // Adds `value`, the light of scene light `light` arriving from unit direction `towards`,
+    // to the entry of its group in `layers` (one per group). The environment's light is shared
+    // between the map's group and the sun's, channel by channel, by their parts of its radiance
+    // from `towards`.
+    void file(uint32_t light, const Vec3& towards, const Color& value,
+              std::span<Color> layers) const;
+    // The same for emission seen on a surface of material `material`, and for the environment's
+    // light reached by a ray that left the scene in direction `towards`.
+    void fileEmission(uint32_t material, const Color& value, std::span<Color> layers) const;
+    void fileEscaped(const Vec3& towards, const Color& value, std::span<Color> layers) const;
+
+  private:
+    const Scene& scene_;
+    std::vector<LightGroup> groups_;
+    std::vector<int> groupOfMaterial_;  // per material: its group, -1 when it emits nothing
+    std::vector<int> groupOfLight_;     // per light of the scene; -1 for the environment
+    int mapGroup_ = -1, sunGroup_ = -1;
+    LightSelection selection_;
+};
 
 }  // namespace penumbra

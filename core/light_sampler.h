@@ -5,6 +5,7 @@
 #include "core/light.h"
 #include "core/sampling.h"
 
+#include <functional>
 #include <memory>
 #include <span>
 #include <vector>
@@ -14,6 +15,10 @@ namespace penumbra {
 class PowerLightSampler {
   public:
     explicit PowerLightSampler(std::span<const std::unique_ptr<Light>> lights);
+    // Among the lights for which `includes(index)` holds alone; the others are never chosen and
+    // their pmf() is 0.
+    PowerLightSampler(std::span<const std::unique_ptr<Light>> lights,
+                      const std::function<bool(size_t)>& includes);
 
     // Index of the chosen light and its probability; nothing when there is no light with power.
     struct Choice {
@@ -25,6 +30,28 @@ class PowerLightSampler {
 
   private:
     AliasTable table_;
+};
+
+// How next-event estimation chooses lights when the lights are split into sets and each estimate
+// draws one light from every set, by power within the set: a render that files its light by
+// light group (core/light_groups.h) samples each group as a render of that group alone would, so
+// that no group's layer is noisier for sharing the render with the others. The estimate is the
+// sum of one sample per set; multiple importance sampling weighs a light by its pmf() within its
+// set (Veach 1997, Eq. 9.13, with the set's selection as the light strategy).
+class LightSelection {
+  public:
+    LightSelection() = default;
+    // setOf[i]: the set of light i, from 0 to the number of sets less one.
+    LightSelection(std::span<const std::unique_ptr<Light>> lights, std::vector<uint32_t> setOf);
+
+    size_t sets() const { return samplers_.size(); }
+    const PowerLightSampler& set(size_t s) const { return samplers_[s]; }
+    // The probability that light `light` is drawn by its set's sample.
+    float pmf(uint32_t light) const { return samplers_[setOf_[light]].pmf(light); }
+
+  private:
+    std::vector<uint32_t> setOf_;
+    std::vector<PowerLightSampler> samplers_;
 };
 
 }  // namespace penumbra

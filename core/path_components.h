@@ -18,6 +18,7 @@
 
 #include <array>
 #include <string_view>
+#include <vector>
 
 namespace penumbra {
 
@@ -57,6 +58,10 @@ struct PathRadiance {
     std::array<Color, kPathComponentCount> corrections{Color(0.0f), Color(0.0f), Color(0.0f),
                                                        Color(0.0f)};
 
+    // The radiance by light group (core/light_groups.h), for an estimator asked to file it so
+    // (one entry per group, summing to total()); empty otherwise.
+    std::vector<Color> groups;
+
     Color& operator[](PathComponent c) { return components[static_cast<size_t>(c)]; }
     const Color& operator[](PathComponent c) const { return components[static_cast<size_t>(c)]; }
 
@@ -69,6 +74,8 @@ struct PathRadiance {
         for (Color& c : components)
             c *= weight;
         for (Color& c : corrections)
+            c *= weight;
+        for (Color& c : groups)
             c *= weight;
         return *this;
     }

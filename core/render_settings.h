@@ -21,6 +21,9 @@ struct RenderSettings {
     // falls below this after kAdaptiveMinSpp samples takes no more; 0 = off.
     float noiseThreshold = 0.0f;
     static constexpr int kAdaptiveMinSpp = 16;
+    // File the image by light group (core/light_groups.h) in this one render, a layer per group:
+    // asked of the passes that can (Pass::splitsLightGroups).
+    bool lightGroups = false;
     bool quiet = false;
 };
 

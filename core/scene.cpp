@@ -34,7 +34,9 @@ Scene::Scene(SceneDescription description, const PortalFinder& findPortals)
 
     // Punctual lights and luminaires first, then one area light per emissive triangle, then the
     // environment.
+    using Origin = LightOrigin::Kind;
     for (const PunctualLightDesc& light : desc_.lights) {
+        lightOrigins_.push_back({Origin::Punctual, lightOrigins_.size()});
         switch (light.type) {
             case PunctualType::Point:
                 lights_.push_back(std::make_unique<PointLight>(light));
@@ -50,6 +52,7 @@ Scene::Scene(SceneDescription description, const PortalFinder& findPortals)
         }
     }
     for (const LuminaireDesc& luminaire : desc_.luminaires) {
+        lightOrigins_.push_back({Origin::Luminaire, lightOrigins_.size() - desc_.lights.size()});
         lights_.push_back(std::make_unique<GoniometricLight>(
             luminaire.table, luminaire.position, luminaire.luminaireToWorld, luminaire.color,
             luminaire.multiplier, luminaire.name));
@@ -66,6 +69,7 @@ Scene::Scene(SceneDescription description, const PortalFinder& findPortals)
             if (!(light->area() > 0.0f))
                 continue;
             triangleLights_[m][t] = static_cast<int>(lights_.size());
+            lightOrigins_.push_back({Origin::Emissive, size_t(mesh.material)});
             lights_.push_back(std::move(light));
         }
     }
@@ -77,6 +81,7 @@ Scene::Scene(SceneDescription description, const PortalFinder& findPortals)
             bounds_.empty() ? 1.0f : bounds_.boundingRadius(), env.file, env.sun, env.portals);
         environment_ = light.get();
         environmentIndex_ = static_cast<int>(lights_.size());
+        lightOrigins_.push_back({Origin::Environment, 0});
         lights_.push_back(std::move(light));
     }
     lightSampler_ = std::make_unique<PowerLightSampler>(lights_);

@@ -38,6 +38,15 @@ class Scene {
     std::span<const Texture> textures() const { return desc_.textures; }
     std::span<const std::unique_ptr<Light>> lights() const { return lights_; }
     const PowerLightSampler& lightSampler() const { return *lightSampler_; }
+    // What light `light` of lights() stands for in the description: a punctual light, a
+    // luminaire, an emissive triangle of a material or the environment, and its index in
+    // SceneDescription::lights, ::luminaires or ::materials (0 for the environment).
+    struct LightOrigin {
+        enum class Kind { Punctual, Luminaire, Emissive, Environment };
+        Kind kind;
+        size_t index;
+    };
+    const LightOrigin& lightOrigin(size_t light) const { return lightOrigins_[light]; }
     const Bounds3& bounds() const { return bounds_; }
     size_t triangleCount() const { return triangleCount_; }
 
@@ -101,6 +110,7 @@ class Scene {
     SceneDescription desc_;
     std::unique_ptr<Accel> accel_;
     std::vector<std::unique_ptr<Light>> lights_;
+    std::vector<LightOrigin> lightOrigins_;  // per light
     std::unique_ptr<PowerLightSampler> lightSampler_;
     // For each mesh, the light index of each triangle (empty for non-emissive meshes).
     std::vector<std::vector<int>> triangleLights_;

@@ -178,6 +178,10 @@ class Pass {
     // of the pipeline does (a radiosity pass whose solution a later pass reuses shows no image
     // of its own; a path pass leaves caustic paths to a caustic pass).
     virtual void adapt(const PipelineShape&) {}
+    // Whether the pass files its image by light group within one render when
+    // RenderSettings::lightGroups asks it to (its layers "light.GROUP" sum to its image): then a
+    // pipeline whose passes all do renders its light groups at once. Valid after adapt().
+    virtual bool splitsLightGroups() const { return false; }
     // The pass's parameters as resolved, for the plan and the log.
     virtual PassStats parameters() const { return {}; }
     // Why the pass has nothing to do for a scene with these contents, so that the planner skips

@@ -67,6 +67,15 @@ float PathPass::correctionSigma() const {
     return corrects ? correctionSigma_ : 0.0f;
 }
 
+std::vector<std::string> PathPass::lightGroups() const {
+    std::vector<std::string> names;
+    if (lightGroupSplit_) {
+        for (const LightGroup& group : lightGroupSplit_->groups())
+            names.push_back(group.name);
+    }
+    return names;
+}
+
 RadianceEstimator PathPass::makeEstimator(PassContext& context) {
     radiosity_ = context.product<RadiositySolution>(products::kRadiositySolution);
     causticMap_ = context.product<CausticMap>(products::kCausticMap);
@@ -86,9 +95,12 @@ RadianceEstimator PathPass::makeEstimator(PassContext& context) {
         reusedSolution_.emplace(*radiosity_);
     if (causticMap_)
         reusedCaustics_.emplace(*causticMap_);
+    if (context.settings.lightGroups && splitsLightGroups())
+        lightGroupSplit_.emplace(context.scene);
     tracer_ = std::make_unique<PathTracer>(context.scene, settings,
                                            reusedSolution_ ? &*reusedSolution_ : nullptr,
-                                           reusedCaustics_ ? &*reusedCaustics_ : nullptr);
+                                           reusedCaustics_ ? &*reusedCaustics_ : nullptr,
+                                           lightGroupSplit_ ? &*lightGroupSplit_ : nullptr);
     return [tracer = tracer_.get()](const Ray& ray, Sampler& sampler, FirstHit* firstHit,
                                     PathCounters& counters) {
         return tracer->Li(ray, sampler, firstHit, counters);

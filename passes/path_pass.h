@@ -58,12 +58,15 @@ class PathPass : public SamplingPass {
     }
     std::set<std::string> needs() const override;
     void adapt(const PipelineShape& shape) override;
+    // Without reuse: every contribution of the path tracer comes from one light.
+    bool splitsLightGroups() const override { return !settings_.reuseRadiosity; }
     PassStats parameters() const override;
 
   protected:
     RadianceEstimator makeEstimator(PassContext& context) override;
     std::string activity() const override { return "path tracing"; }
     float correctionSigma() const override;
+    std::vector<std::string> lightGroups() const override;
 
   private:
     PathTracerSettings settings_;
@@ -74,6 +77,7 @@ class PathPass : public SamplingPass {
     std::shared_ptr<const CausticMap> causticMap_;
     std::optional<SolutionForTracers> reusedSolution_;  // radiosity_ as the tracer reads it
     std::optional<CausticsForTracers> reusedCaustics_;
+    std::optional<LightGroupSplit> lightGroupSplit_;  // when the render files light by group
     std::unique_ptr<PathTracer> tracer_;
 };
 

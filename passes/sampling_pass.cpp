@@ -10,7 +10,8 @@ namespace penumbra {
 namespace {
 
 // Publishes the renderer's image as the contribution `name` of a pass, and its AOV layers (adding
-// the light-path components to what earlier passes published: PassContext::addToLayer).
+// the light-path components and the light groups to what earlier passes published:
+// PassContext::addToLayer).
 void publishRenderedImage(PassContext& context, const ImageRenderer& renderer,
                           const std::string& name) {
     context.contribute(name, renderer.resolve());
@@ -21,6 +22,9 @@ void publishRenderedImage(PassContext& context, const ImageRenderer& renderer,
         else
             context.layers[aovs[a]] = renderer.resolveAov(a);
     }
+    const std::vector<std::string>& groups = renderer.lightGroups();
+    for (size_t g = 0; g < groups.size(); ++g)
+        context.addToLayer("light." + groups[g], renderer.resolveLightGroup(g));
 }
 
 }  // namespace
@@ -34,8 +38,9 @@ void SamplingPass::prepare(PassContext& context) {
         [&scene, &estimator](const Sensor& sensor, Sampler& sampler, PathCounters& counters) {
             return sampleSensorIrradiance(scene, estimator, sensor, sampler, counters);
         };
-    renderer_ = std::make_unique<ImageRenderer>(context.camera, context.settings, estimator_,
-                                                correctionSigma(), surfaceIrradiance);
+    renderer_ =
+        std::make_unique<ImageRenderer>(context.camera, context.settings, estimator_,
+                                        correctionSigma(), surfaceIrradiance, lightGroups());
     start_ = std::chrono::steady_clock::now();
     // With a time limit the bar measures the time left (in milliseconds), else samples.
     timed_ = context.deadline && usesTimeLimit();

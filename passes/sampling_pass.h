@@ -48,6 +48,10 @@ class SamplingPass : public Pass {
     // The width in pixels, at one sample per pixel, of the reconstruction filter of the
     // estimator's corrections (ImageRenderer); 0 for none.
     virtual float correctionSigma() const { return 0.0f; }
+    // The names of the light groups the estimator files its light by (PathRadiance::groups), once
+    // it is made: each is published as the layer "light.NAME", added to the other passes' layer
+    // of that name. Empty for an estimator that does not.
+    virtual std::vector<std::string> lightGroups() const { return {}; }
 
   private:
     RadianceEstimator estimator_;

@@ -9,19 +9,25 @@ namespace penumbra {
 
 namespace {
 
-// One light sample for next-event estimation at `hit`: a light chosen by power, a point on it and
-// a shadow ray. Returns the direction to the light and the arriving radiance over the sample's
-// density, weighted by the power heuristic against bsdf.pdf() (Veach 1997, Eq. 9.13; 1 for a
-// delta light); nothing when no light arrives or `reflects(wi)` says the caller's lobes send none
-// of it back, checked before the shadow ray is cast.
+// One light sample for next-event estimation at `hit`: a light chosen by power from `lights`, a
+// point on it and a shadow ray. Returns the light, the direction to it and the arriving radiance
+// over the sample's density, weighted by the power heuristic against bsdf.pdf() (Veach 1997,
+// Eq. 9.13; 1 for a delta light); nothing when no light arrives or `reflects(wi)` says the
+// caller's lobes send none of it back, checked before the shadow ray is cast.
+struct IncidentLight {
+    uint32_t light;
+    Vec3 wi;
+    Color L;
+};
 template <typename Reflects>
-std::optional<std::pair<Vec3, Color>> sampleIncidentLight(const Scene& scene, const SurfaceHit& hit,
-                                                          const Bsdf& bsdf, const Vec3& wo,
-                                                          Sampler& sampler, PathCounters& counters,
-                                                          const Reflects& reflects) {
+std::optional<IncidentLight> sampleIncidentLight(const Scene& scene,
+                                                 const PowerLightSampler& lights,
+                                                 const SurfaceHit& hit, const Bsdf& bsdf,
+                                                 const Vec3& wo, Sampler& sampler,
+                                                 PathCounters& counters, const Reflects& reflects) {
     const float uLight = sampler.get1D();
     const Vec2 uPoint = sampler.get2D();
-    const auto choice = scene.lightSampler().sample(uLight);
+    const auto choice = lights.sample(uLight);
     if (!choice)
         return std::nullopt;
     const Light& light = *scene.lights()[choice->light];
@@ -36,7 +42,13 @@ std::optional<std::pair<Vec3, Color>> sampleIncidentLight(const Scene& scene, co
         return std::nullopt;
     const float lightPdf = choice->pmf * ls->pdf;
     const float weight = light.isDelta() ? 1.0f : powerHeuristic(lightPdf, bsdf.pdf(wo, ls->wi));
-    return std::make_pair(ls->wi, ls->L * Tr * (weight / lightPdf));
+    return IncidentLight{choice->light, ls->wi, ls->L * Tr * (weight / lightPdf)};
+}
+
+// The probability with which next-event estimation draws `light`: from its set of `selection`,
+// or without one from the scene's lights.
+float selectionPmf(const Scene& scene, uint32_t light, const LightSelection* selection) {
+    return selection ? selection->pmf(light) : scene.lightSampler().pmf(light);
 }
 
 }  // namespace
@@ -48,8 +60,26 @@ Color sampleDirectLight(const Scene& scene, const SurfaceHit& hit, const Bsdf& b
         f = bsdf.f(wo, wi, lobes) * std::abs(glm::dot(wi, bsdf.shadingNormal()));
         return maxComponent(f) > 0.0f;
     };
-    const auto incident = sampleIncidentLight(scene, hit, bsdf, wo, sampler, counters, reflects);
-    return incident ? f * incident->second : Color(0.0f);
+    const auto incident = sampleIncidentLight(scene, scene.lightSampler(), hit, bsdf, wo, sampler,
+                                              counters, reflects);
+    return incident ? f * incident->L : Color(0.0f);
+}
+
+Color sampleDirectLightFromSet(const Scene& scene, const LightSelection& selection, size_t set,
+                               const SurfaceHit& hit, const Bsdf& bsdf, const Vec3& wo,
+                               Sampler& sampler, PathCounters& counters,
+                               LightSampleOrigin& origin) {
+    Color f(0.0f);
+    const auto reflects = [&](const Vec3& wi) {
+        f = bsdf.f(wo, wi) * std::abs(glm::dot(wi, bsdf.shadingNormal()));
+        return maxComponent(f) > 0.0f;
+    };
+    const auto incident =
+        sampleIncidentLight(scene, selection.set(set), hit, bsdf, wo, sampler, counters, reflects);
+    if (!incident)
+        return Color(0.0f);
+    origin = {incident->light, incident->wi};
+    return f * incident->L;
 }
 
 DirectLightShares sampleDirectLightShares(const Scene& scene, const SurfaceHit& hit,
@@ -62,27 +92,30 @@ DirectLightShares sampleDirectLightShares(const Scene& scene, const SurfaceHit& 
         fGlossy = bsdf.fGlossy(wo, wi) * cosine;
         return maxComponent(f) > 0.0f;
     };
-    const auto incident = sampleIncidentLight(scene, hit, bsdf, wo, sampler, counters, reflects);
+    const auto incident = sampleIncidentLight(scene, scene.lightSampler(), hit, bsdf, wo, sampler,
+                                              counters, reflects);
     if (!incident)
         return {};
-    return {f * incident->second, fGlossy * incident->second};
+    return {f * incident->L, fGlossy * incident->L};
 }
 
 float emissionMisWeight(const Scene& scene, const LightSampleContext& ctx, const Vec3& wi,
-                        const SurfaceHit& lightHit, float bsdfPdf) {
+                        const SurfaceHit& lightHit, float bsdfPdf,
+                        const LightSelection* selection) {
     const int lightIndex = scene.lightIndex(lightHit);
     if (lightIndex < 0)
         return 1.0f;
-    const float lightPdf =
-        scene.lightSampler().pmf(lightIndex) * scene.lights()[lightIndex]->pdfLi(ctx, wi, lightHit);
+    const float lightPdf = selectionPmf(scene, uint32_t(lightIndex), selection) *
+                           scene.lights()[lightIndex]->pdfLi(ctx, wi, lightHit);
     return powerHeuristic(bsdfPdf, lightPdf);
 }
 
-float escapedMisWeight(const Scene& scene, const Vec3& from, const Vec3& wi, float bsdfPdf) {
+float escapedMisWeight(const Scene& scene, const Vec3& from, const Vec3& wi, float bsdfPdf,
+                       const LightSelection* selection) {
     const EnvironmentLight* environment = scene.environment();
     if (!environment)
         return 1.0f;
-    const float lightPdf = scene.lightSampler().pmf(uint32_t(scene.environmentLightIndex())) *
+    const float lightPdf = selectionPmf(scene, uint32_t(scene.environmentLightIndex()), selection) *
                            environment->pdfDirection(from, wi);
     return powerHeuristic(bsdfPdf, lightPdf);
 }

@@ -20,6 +20,20 @@ Color sampleDirectLight(const Scene& scene, const SurfaceHit& hit, const Bsdf& b
                         Sampler& sampler, PathCounters& counters,
                         ReflectingLobes lobes = ReflectingLobes::All);
 
+// The light a sample of next-event estimation came from, for a tracer that files light by group:
+// its index in scene.lights() and the unit direction from the receiver towards it.
+struct LightSampleOrigin {
+    uint32_t light = 0;
+    Vec3 wi{0.0f};
+};
+
+// sampleDirectLight with the light drawn from set `set` of `selection` (core/light_sampler.h)
+// instead of from all the scene's lights, and weighted against bsdf.pdf() with its pmf in that
+// set. `origin` receives the light drawn when the result is not zero.
+Color sampleDirectLightFromSet(const Scene& scene, const LightSelection& selection, size_t set,
+                               const SurfaceHit& hit, const Bsdf& bsdf, const Vec3& wo,
+                               Sampler& sampler, PathCounters& counters, LightSampleOrigin& origin);
+
 // The reflected radiance of sampleDirectLight by all the non-delta lobes and by the glossy ones
 // alone, from one light sample and one shadow ray: for a tracer that takes the Lambertian layer's
 // share (all - glossy) apart at a vertex.
@@ -33,13 +47,17 @@ DirectLightShares sampleDirectLightShares(const Scene& scene, const SurfaceHit& 
 
 // The power heuristic weight (Veach 1997, Eq. 9.13) of emission that a BSDF sample of density
 // bsdfPdf, leaving the point of ctx in direction wi, reached on lightHit, against the light
-// sampling of sampleDirectLight from the same point; 1 where that is not a light of the scene.
+// sampling of sampleDirectLight from the same point (of sampleDirectLightFromSet, whose light
+// comes from its set of `selection`, when that is given); 1 where that is not a light of the
+// scene.
 float emissionMisWeight(const Scene& scene, const LightSampleContext& ctx, const Vec3& wi,
-                        const SurfaceHit& lightHit, float bsdfPdf);
+                        const SurfaceHit& lightHit, float bsdfPdf,
+                        const LightSelection* selection = nullptr);
 
 // The same for the environment's radiance that a BSDF sample of density bsdfPdf, leaving point
 // `from`, found past a ray that left the scene in direction wi; 1 without an environment.
-float escapedMisWeight(const Scene& scene, const Vec3& from, const Vec3& wi, float bsdfPdf);
+float escapedMisWeight(const Scene& scene, const Vec3& from, const Vec3& wi, float bsdfPdf,
+                       const LightSelection* selection = nullptr);
 
 // The whole direct light reflected towards wo by the non-delta lobes, for a tracer that traces
 // no further bounce from this vertex (distribution ray tracing): the light sample above and one

@@ -97,13 +97,15 @@ Vec3 aovValue(const std::string& name, const SurfaceGuide& hit) {
 
 ImageRenderer::ImageRenderer(const Camera& camera, const RenderSettings& settings,
                              RadianceEstimator estimator, float correctionSigma,
-                             SurfaceIrradiance surfaceIrradiance)
+                             SurfaceIrradiance surfaceIrradiance,
+                             std::vector<std::string> lightGroups)
     : camera_(camera),
       settings_(settings),
       estimator_(std::move(estimator)),
       surfaceIrradiance_(std::move(surfaceIrradiance)),
       filter_(parseFilter(settings.filter)),
       aovNames_(rendererAovs(settings.aovs)),
+      lightGroups_(std::move(lightGroups)),
       correctionSigma_(correctionSigma),
       film_(settings.width, settings.height, filmLayers()),
       converged_(static_cast<size_t>(settings.width) * settings.height, 0),
@@ -118,12 +120,17 @@ std::vector<AovSpec> ImageRenderer::filmLayers() {
     std::vector<AovSpec> layers = aovSpecs(aovNames_);
     for (const std::string& aov : aovNames_)
         aovComponents_.push_back(componentIndex(aov));
-    if (correctionSigma_ <= 0.0f)
-        return layers;
     const auto addLayer = [&layers](AovSpec spec) {
         layers.push_back(std::move(spec));
         return static_cast<int>(layers.size()) - 1;
     };
+    for (const std::string& group : lightGroups_) {
+        const int layer = addLayer({"light." + group});
+        if (firstLightGroupLayer_ < 0)
+            firstLightGroupLayer_ = layer;
+    }
+    if (correctionSigma_ <= 0.0f)
+        return layers;
     correctionLayer_ = addLayer({"correction"});
     correctionSquaredLayer_ = addLayer({"correction_squared"});
     for (const int component : aovComponents_)
@@ -214,6 +221,10 @@ Image ImageRenderer::resolveAov(size_t aov) const {
     return image;
 }
 
+Image ImageRenderer::resolveLightGroup(size_t group) const {
+    return film_.resolveAov(firstLightGroupLayer_ + static_cast<int>(group));
+}
+
 Color ImageRenderer::irradianceAt(const FirstHit& firstHit, Sampler& sampler,
                                   PathCounters& counters) const {
     if (!firstHit.valid)
@@ -271,6 +282,10 @@ void ImageRenderer::renderSamplePass() {
                         else if (aovNames_[a] != "spp")
                             film_.addAov(pixel, static_cast<int>(a),
                                          aovValue(aovNames_[a], firstHit));
+                    }
+                    for (size_t g = 0; g < lightGroups_.size(); ++g) {
+                        film_.addAov(pixel, firstLightGroupLayer_ + static_cast<int>(g),
+                                     components.groups.at(g));
                     }
                     if (correctionLayer_ >= 0)
                         addCorrection(pixel, components, firstHit);

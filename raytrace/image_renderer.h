@@ -43,8 +43,11 @@ class ImageRenderer {
     // width in pixels at one sample per pixel, each pixel's width then chosen around it by
     // chooseFilterWidths(); 0: they stay in the image as they are.
     // surfaceIrradiance fills the `illuminance` AOV; it is needed when settings.aovs asks for it.
+    // lightGroups: the names of the groups the estimator files its light by
+    // (PathRadiance::groups, one entry per name), each kept in a layer of its own; empty for none.
     ImageRenderer(const Camera& camera, const RenderSettings& settings, RadianceEstimator estimator,
-                  float correctionSigma = 0.0f, SurfaceIrradiance surfaceIrradiance = {});
+                  float correctionSigma = 0.0f, SurfaceIrradiance surfaceIrradiance = {},
+                  std::vector<std::string> lightGroups = {});
 
     // Renders one more sample per pixel (sample index samplesDone()), for every pixel that has
     // not converged under adaptive sampling (RenderSettings::noiseThreshold).
@@ -68,6 +71,9 @@ class ImageRenderer {
     float correctionSigma() const;
     // AOV names in film order.
     const std::vector<std::string>& aovNames() const { return aovNames_; }
+    // The light groups' names, and the radiance of group `group` (an index into them).
+    const std::vector<std::string>& lightGroups() const { return lightGroups_; }
+    Image resolveLightGroup(size_t group) const;
 
   private:
     // What reconstructs the correction layers after the samples taken so far: the filter's guide
@@ -98,6 +104,8 @@ class ImageRenderer {
     PixelFilter filter_;
     std::vector<std::string> aovNames_;
     std::vector<int> aovComponents_;  // per AOV: its PathComponent, or -1 for a first-hit AOV
+    std::vector<std::string> lightGroups_;
+    int firstLightGroupLayer_ = -1;  // the film layer of the first light group, the others after it
     float correctionSigma_;
     // Film layers past the user's AOVs, with a correction kept apart: the correction's sum over
     // the components and its square (for the variance of its mean), its share of each component

@@ -5,6 +5,8 @@
 #include "raytrace/direct_light.h"
 #include "raytrace/tracing_steps.h"
 
+#include <stdexcept>
+
 namespace penumbra {
 
 namespace {
@@ -52,8 +54,16 @@ std::string pathTracerLightPaths(const PathTracerSettings& settings) {
 }
 
 PathTracer::PathTracer(const Scene& scene, const PathTracerSettings& settings,
-                       const ReusedSolution* radiosity, const ReusedCaustics* causticMap)
-    : scene_(scene), settings_(settings), radiosity_(radiosity), causticMap_(causticMap) {}
+                       const ReusedSolution* radiosity, const ReusedCaustics* causticMap,
+                       const LightGroupSplit* groups)
+    : scene_(scene),
+      settings_(settings),
+      radiosity_(radiosity),
+      causticMap_(causticMap),
+      groups_(groups) {
+    if (groups_ && settings_.reuseRadiosity)
+        throw std::logic_error("PathTracer: light groups need a tracer without reuse");
+}
 
 namespace {
 
@@ -116,6 +126,9 @@ struct PathWeights {
 PathRadiance PathTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHit,
                             PathCounters& counters) const {
     PathRadiance L;
+    if (groups_)
+        L.groups.assign(groups_->groups().size(), Color(0.0f));
+    const LightSelection* selection = groups_ ? &groups_->selection() : nullptr;
     // The base part takes the solution S at each reuse vertex as its Lambertian layer's light
     // (biased by the solution's error). With settings_.correctionProbability = q > 0 the path
     // also goes on through that layer with probability q and adds (T - S) / q, T being what the
@@ -153,17 +166,19 @@ PathRadiance PathTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHit,
     float pathLength = 0.0f;           // from the camera to the current vertex, metres
 
     // Adds radiance `value` reaching the eye as `component`, weighted by the base and
-    // correction weights.
+    // correction weights; returns what it added.
     const auto add = [&](PathComponent component, const Color& baseWeight,
                          const Color& correctionWeight, const Color& value) {
         const Color fromCorrection = correctionWeight * value;
-        L[component] += baseWeight * value + fromCorrection;
+        const Color added = baseWeight * value + fromCorrection;
+        L[component] += added;
         L.corrections[static_cast<size_t>(component)] += fromCorrection;
+        return added;
     };
 
     // Emission Le reached by the previous BSDF sample (on a surface, or the environment past a
     // ray that left the scene), with its MIS weight against next-event estimation at the
-    // previous vertex (Veach 1997, Eq. 9.13).
+    // previous vertex (Veach 1997, Eq. 9.13). Returns what it added.
     const auto addEmission = [&](const Color& Le, float misWeight) {
         const bool causticPath = diffuseVertices == 1 && specularAfterDiffuse;
         // Light reaching a reuse vertex through specular vertices is held by the caustic map or
@@ -176,9 +191,10 @@ PathRadiance PathTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHit,
         const Color correctionWeight = causticAtReuse ? w.traced + w.chain : w.correction();
         if (maxComponent(Le) > 0.0f && !(causticPath && settings_.excludeCaustics) &&
             maxComponent(baseWeight + correctionWeight) > 0.0f) {
-            add(pathComponent(depth, firstVertexSpecular), baseWeight, correctionWeight,
-                Le * misWeight);
+            return add(pathComponent(depth, firstVertexSpecular), baseWeight, correctionWeight,
+                       Le * misWeight);
         }
+        return Color(0.0f);
     };
 
     while (true) {
@@ -186,9 +202,12 @@ PathRadiance PathTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHit,
         const std::optional<SurfaceHit> hit = scene_.intersect(ray);
         if (!hit) {
             if (scene_.environment()) {
-                addEmission(
+                const Color added = addEmission(
                     scene_.escaped(ray.d),
-                    lastDelta ? 1.0f : escapedMisWeight(scene_, lastCtx.p, ray.d, lastBsdfPdf));
+                    lastDelta ? 1.0f
+                              : escapedMisWeight(scene_, lastCtx.p, ray.d, lastBsdfPdf, selection));
+                if (groups_)
+                    groups_->fileEscaped(ray.d, added, L.groups);
             }
             break;
         }
@@ -199,9 +218,12 @@ PathRadiance PathTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHit,
 
         const Color Le = scene_.emitted(*hit, wo);
         if (maxComponent(Le) > 0.0f) {
-            addEmission(Le, lastDelta
-                                ? 1.0f
-                                : emissionMisWeight(scene_, lastCtx, ray.d, *hit, lastBsdfPdf));
+            const Color added = addEmission(
+                Le, lastDelta
+                        ? 1.0f
+                        : emissionMisWeight(scene_, lastCtx, ray.d, *hit, lastBsdfPdf, selection));
+            if (groups_)
+                groups_->fileEmission(uint32_t(hit->material), added, L.groups);
         }
 
         const Bsdf bsdf = scene_.bsdf(*hit);
@@ -253,7 +275,19 @@ PathRadiance PathTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHit,
         if (unheld && bsdf.hasNonDeltaLobe()) {
             const bool glossy = (bsdf.lobes() & kLobeGlossy) != 0;
             const bool correctionLive = maxComponent(w.correction() + corrected) > 0.0f;
-            if (!reuseHere) {
+            if (!reuseHere && groups_) {
+                // One light from each group, each filed under its group.
+                for (size_t set = 0; set < selection->sets(); ++set) {
+                    LightSampleOrigin origin;
+                    const Color direct = sampleDirectLightFromSet(
+                        scene_, *selection, set, *hit, bsdf, wo, sampler, counters, origin);
+                    if (maxComponent(direct) > 0.0f) {
+                        groups_->file(origin.light, origin.wi,
+                                      add(reflectedHere, w.unheld, w.correction(), direct),
+                                      L.groups);
+                    }
+                }
+            } else if (!reuseHere) {
                 add(reflectedHere, w.unheld, w.correction(),
                     sampleDirectLight(scene_, *hit, bsdf, wo, sampler, counters));
             } else if (correctionLive) {

@@ -42,8 +42,14 @@
 //
 // Each contribution is filed under its component (core/path_components.h) by the vertices its
 // path scatters at and the lobe the first one was left through.
+//
+// Asked to file its light by group (core/light_groups.h: LightGroupSplit), the tracer without
+// reuse draws one light from each group at every next-event estimate (the sum over groups of
+// each group's estimate, Veach's MIS weights taken within the group), and adds each
+// contribution to its light's group too (PathRadiance::groups).
 #pragma once
 
+#include "core/light_groups.h"
 #include "core/math.h"
 #include "core/path_components.h"
 #include "core/ray.h"
@@ -100,9 +106,12 @@ class PathTracer {
     // settings.reuseRadiosity, and then may be null only when the scene has no diffuse surface
     // (the planner skipped the radiosity pass: there is nothing to reflect).
     // causticMap: the caustic estimate; required when settings.causticsAtReuse.
+    // groups: when given, Li() files its light by group too (PathRadiance::groups, one entry per
+    // group of the split); only without settings.reuseRadiosity, whose solution holds the light
+    // of every group together (std::logic_error otherwise).
     PathTracer(const Scene& scene, const PathTracerSettings& settings,
                const ReusedSolution* radiosity = nullptr,
-               const ReusedCaustics* causticMap = nullptr);
+               const ReusedCaustics* causticMap = nullptr, const LightGroupSplit* groups = nullptr);
 
     // Radiance (cd/m²) arriving along -ray.d at the ray's origin, estimated with one path.
     // The result may be non-finite only through a bug or broken input; callers drop such samples.
@@ -113,6 +122,7 @@ class PathTracer {
     PathTracerSettings settings_;
     const ReusedSolution* radiosity_;
     const ReusedCaustics* causticMap_;
+    const LightGroupSplit* groups_;
 };
 
 }  // namespace penumbra
