@@ -36,13 +36,7 @@ struct BakeOptions {
     std::string output;
     std::optional<float> exposure;  // EV; none = automatic
     int threads = 0;
-    // Not cut along shadow lines unless asked: a baked vertex on one would hold one colour for
-    // both sides, and a cut that ends on a triangle's edge leaves a T-junction in the model.
-    RadiositySettings radiosity = [] {
-        RadiositySettings r;
-        r.shadowLines = false;
-        return r;
-    }();
+    RadiositySettings radiosity;
     bool caustics = true;          // take the lights' caustic photons into the solution
     bool specularTransfer = true;  // carry the solution's light through specular surfaces
     uint32_t seed = 0;             // of the photons and of the check
@@ -127,7 +121,12 @@ void bake(const BakeOptions& options) {
     BakeResult result;
     {
         Progress progress("bake", mesh.leafCount(), quiet);
-        result = bakeRadiosity(*scene, mesh, options.exposure, &progress);
+        result = bakeRadiosity(
+            *scene, mesh,
+            [&solver](int leaf, size_t corner) {
+                return solver.cornerRadiance(leaf, corner, true);
+            },
+            options.exposure, &progress);
     }
     const size_t bytes = writeGltf(options.output, result.model);
     if (quiet)
@@ -189,10 +188,10 @@ Command addBakeCommand(CLI::App& app) {
                    "floor) before meshing, so that no element straddles one")
         ->capture_default_str();
     command
-        ->add_flag("--shadow-lines", r.shadowLines,
+        ->add_flag("--shadow-lines,!--no-shadow-lines", r.shadowLines,
                    "Cut the surfaces along the shadow boundaries of point lights, luminaires and "
-                   "the sun before meshing (the renders' default; off in a bake, whose vertices "
-                   "on a boundary hold one colour for both sides)")
+                   "the sun before meshing, so that hard shadows have sharp edges (on by "
+                   "default; --no-shadow-lines leaves them to the refinement)")
         ->capture_default_str();
     command
         ->add_flag("!--no-direct-at-corners", r.directAtCorners,

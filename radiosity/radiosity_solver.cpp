@@ -566,7 +566,18 @@ float RadiositySolver::exposedFraction(int element, bool front) const {
 
 Color RadiositySolver::radiance(uint32_t mesh, uint32_t triangle, Vec3 b, bool includeEmission,
                                 bool front) const {
-    const ElementPoint point = mesh_.locate(mesh, triangle, b);
+    return shownRadiance(mesh_.locate(mesh, triangle, b), includeEmission, front);
+}
+
+Color RadiositySolver::cornerRadiance(int leaf, size_t corner, bool includeEmission,
+                                      bool front) const {
+    Vec3 weights(0.0f);
+    weights[int(corner)] = 1.0f;
+    return shownRadiance(ElementPoint{leaf, weights}, includeEmission, front);
+}
+
+Color RadiositySolver::shownRadiance(const ElementPoint& point, bool includeEmission,
+                                     bool front) const {
     if (point.element < 0 || vertexReflected_.empty())
         return Color(0.0f);
     Color L = vertexReflected_.interpolate(mesh_, point, front);

@@ -179,6 +179,10 @@ class RadiositySolver : public RadiositySolution {
     // Zero on a triangle the mesh does not hold.
     Color radiance(uint32_t mesh, uint32_t triangle, Vec3 b, bool includeEmission,
                    bool front = true) const override;
+    // radiance() at corner `corner` (in the order of RadiosityMesh::vertices()) of leaf `leaf`, as
+    // that leaf shows it: where the leaves that meet at a vertex show different values (the two
+    // sides of a cut along a shadow or contact line), each leaf's own.
+    Color cornerRadiance(int leaf, size_t corner, bool includeEmission, bool front = true) const;
     // RadiositySolution: the Gouraud interpolation of elementIndirect().
     Color indirectRadiance(uint32_t mesh, uint32_t triangle, Vec3 b,
                            bool front = true) const override;
@@ -230,6 +234,8 @@ class RadiositySolver : public RadiositySolution {
     // included) at a point: the corners' interpolation (indirect_at_corners.h), or without them
     // the vertex values' (Gouraud).
     Color shownIndirect(const ElementPoint& point, bool front) const;
+    // radiance() at a point of a leaf.
+    Color shownRadiance(const ElementPoint& point, bool includeEmission, bool front) const;
     void computeVertexValues();
     // The progress sink of solve(), if any (these do nothing without one).
     void beginStage(const std::string& name, uint64_t total);
