@@ -163,6 +163,10 @@ Color EnvironmentLight::sunRadiance(const Vec3& towards) const {
     return inSun(towards) ? Color(sun_->radiance()) : Color(0.0f);
 }
 
+Color EnvironmentLight::radiance(const Vec3& towards, EnvironmentPart part) const {
+    return part == EnvironmentPart::Sun ? sunRadiance(towards) : mapRadiance(towards);
+}
+
 Color EnvironmentLight::mapRadiance(const Vec3& towards) const {
     const Vec2 uv = directionToUv(worldToLocal_ * towards);
     // Bilinear between pixel centres, pixel (x, y) centred at ((x + 0.5) / W, (y + 0.5) / H).
@@ -199,12 +203,22 @@ double EnvironmentLight::horizontalIlluminance() const {
 }
 
 float EnvironmentLight::pdfDirection(const Vec3& from, const Vec3& towards) const {
-    return pdfDirection(from, towards, portals_.empty() ? 0.0 : portals_.luminanceShown(from));
+    return pdfDirection(from, towards, portals_.empty() ? 0.0 : portals_.luminanceShown(from),
+                        sunProbability_);
 }
 
-float EnvironmentLight::pdfDirection(const Vec3& from, const Vec3& towards, double shown) const {
-    const float sun = inSun(towards) ? sunProbability_ / sun_->solidAngle() : 0.0f;
-    const float rest = 1.0f - sunProbability_;
+float EnvironmentLight::pdfDirection(const Vec3& from, const Vec3& towards,
+                                     EnvironmentPart part) const {
+    if (part == EnvironmentPart::Sun)
+        return inSun(towards) ? 1.0f / sun_->solidAngle() : 0.0f;
+    return pdfDirection(from, towards, portals_.empty() ? 0.0 : portals_.luminanceShown(from),
+                        0.0f);
+}
+
+float EnvironmentLight::pdfDirection(const Vec3& from, const Vec3& towards, double shown,
+                                     float sunShare) const {
+    const float sun = inSun(towards) ? sunShare / sun_->solidAngle() : 0.0f;
+    const float rest = 1.0f - sunShare;
     if (!(shown > 0.0))
         return rest * mapPdf(towards) + sun;
     return rest * ((1.0f - kPortalShare) * mapPdf(towards) +
@@ -226,14 +240,29 @@ float EnvironmentLight::mapPdf(const Vec3& towards) const {
 
 std::optional<LightLiSample> EnvironmentLight::sampleLi(const LightSampleContext& ctx,
                                                         Vec2 u) const {
+    return sampleMixture(ctx, u, sunProbability_, [this](const Vec3& wi) { return radiance(wi); });
+}
+
+std::optional<LightLiSample> EnvironmentLight::sampleLi(const LightSampleContext& ctx, Vec2 u,
+                                                        EnvironmentPart part) const {
+    if (part == EnvironmentPart::Sun && !sun_)
+        return std::nullopt;
+    return sampleMixture(ctx, u, part == EnvironmentPart::Sun ? 1.0f : 0.0f,
+                         [this, part](const Vec3& wi) { return radiance(wi, part); });
+}
+
+template <typename Radiance>
+std::optional<LightLiSample> EnvironmentLight::sampleMixture(const LightSampleContext& ctx, Vec2 u,
+                                                             float sunShare,
+                                                             const Radiance& radiance) const {
     // The sun, the portals (where they show the point some light) and the map with their
     // probabilities, u.x rescaled to [0, 1) for the part chosen.
     Vec3 wi;
     const double shown = portals_.empty() ? 0.0 : portals_.luminanceShown(ctx.p);
-    if (u.x < sunProbability_) {
-        wi = sun_->sample(Vec2(u.x / sunProbability_, u.y));
+    if (u.x < sunShare) {
+        wi = sun_->sample(Vec2(u.x / sunShare, u.y));
     } else {
-        const float uRest = std::min((u.x - sunProbability_) / (1.0f - sunProbability_), 1.0f);
+        const float uRest = std::min((u.x - sunShare) / (1.0f - sunShare), 1.0f);
         if (!(shown > 0.0)) {
             wi = sampleMap(Vec2(uRest, u.y));
         } else if (uRest < kPortalShare) {
@@ -250,7 +279,7 @@ std::optional<LightLiSample> EnvironmentLight::sampleLi(const LightSampleContext
 
     // The density is looked up again from wi, so that it is exactly what MIS gets from
     // pdfDirection() for the same direction.
-    const float pdf = pdfDirection(ctx.p, wi, shown);
+    const float pdf = pdfDirection(ctx.p, wi, shown, sunShare);
     const Color L = radiance(wi);
     if (!(pdf > 0.0f) || maxComponent(L) <= 0.0f)
         return std::nullopt;

@@ -30,6 +30,10 @@
 
 namespace penumbra {
 
+// The environment's two parts, which a render that files its light by group samples and weighs
+// apart (core/light_groups.h): the map, with its ground, and the sun's disc.
+enum class EnvironmentPart { Map, Sun };
+
 class EnvironmentLight : public Light {
   public:
     // `radiance`: width x height pixels with at least one channel: R, G, B by the names "R", "G",
@@ -65,9 +69,9 @@ class EnvironmentLight : public Light {
     // centres, wrapping around in u and clamped in v, times the scale, plus the sun's radiance
     // inside its disc.
     Color radiance(const Vec3& towards) const;
-    // The sun's part of radiance(towards): its disc's radiance inside it, zero elsewhere and
-    // without a sun.
-    Color sunRadiance(const Vec3& towards) const;
+    // The part's share of radiance(towards): the map's, or the sun's disc's (zero outside it and
+    // without a sun).
+    Color radiance(const Vec3& towards, EnvironmentPart part) const;
     // The horizontal illuminance (lux, the Rec. 709 luminance of the irradiance) that the map,
     // without the sun, gives an upward plane with nothing around it: the integral of
     // radiance() cos(theta) over the upper hemisphere in world axes, by the midpoint rule on
@@ -77,10 +81,17 @@ class EnvironmentLight : public Light {
     // Solid-angle density (1/sr) with which sampleLi() from point `from` draws unit world
     // direction `towards`.
     float pdfDirection(const Vec3& from, const Vec3& towards) const;
+    // The density of sampleLi(.., part).
+    float pdfDirection(const Vec3& from, const Vec3& towards, EnvironmentPart part) const;
 
     // A direction drawn from the distribution; pLight a point beyond the scene's bounding sphere
     // along it (as DirectionalLight's), nLight zero; L = radiance(wi).
     std::optional<LightLiSample> sampleLi(const LightSampleContext& ctx, Vec2 u) const override;
+    // The same for one part alone: a direction drawn from the map's distribution (through the
+    // portals as above) or uniformly in the sun's cone, its density pdfDirection(.., part), and L
+    // the part's radiance. Nothing for the sun's part without a sun.
+    std::optional<LightLiSample> sampleLi(const LightSampleContext& ctx, Vec2 u,
+                                          EnvironmentPart part) const;
     // Zero: no surface is the environment. Rays that escape ask pdfDirection().
     float pdfLi(const LightSampleContext&, const Vec3&, const SurfaceHit&) const override {
         return 0.0f;
@@ -121,8 +132,15 @@ class EnvironmentLight : public Light {
     Color mapRadiance(const Vec3& towards) const;
     float mapPdf(const Vec3& towards) const;
     Vec3 sampleMap(Vec2 u) const;
-    // pdfDirection() with the portals' luminanceShown(from) already known.
-    float pdfDirection(const Vec3& from, const Vec3& towards, double shown) const;
+    // pdfDirection() with the portals' luminanceShown(from) already known, for a mixture that
+    // draws the sun with probability sunShare (sunProbability_ for the whole, 0 for the map's
+    // part, 1 for the sun's).
+    float pdfDirection(const Vec3& from, const Vec3& towards, double shown, float sunShare) const;
+    // sampleLi() from that mixture, L from `radiance`.
+    template <typename Radiance>
+    std::optional<LightLiSample> sampleMixture(const LightSampleContext& ctx, Vec2 u,
+                                               float sunShare, const Radiance& radiance) const;
+    Color sunRadiance(const Vec3& towards) const;
     bool inSun(const Vec3& towards) const;
 };
 

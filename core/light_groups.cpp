@@ -103,25 +103,18 @@ SceneDescription litOnlyBy(const SceneDescription& scene, const LightGroup& grou
 
 namespace {
 
-// Each light's set in a LightGroupSplit's selection: its group's index; the environment's, the
-// map's group (or the sun's when the map is black); a light of no group (an environment that
-// sends no light) joins set 0, where it is never drawn for lack of power.
-std::vector<uint32_t> selectionSets(const Scene& scene, const std::vector<int>& groupOfLight,
-                                    int mapGroup, int sunGroup) {
-    std::vector<uint32_t> sets(groupOfLight.size(), 0);
-    for (size_t i = 0; i < sets.size(); ++i) {
-        const int group = int(i) == scene.environmentLightIndex()
-                              ? (mapGroup >= 0 ? mapGroup : sunGroup)
-                              : groupOfLight[i];
-        sets[i] = uint32_t(std::max(group, 0));
-    }
+// Each light's set in a LightGroupSplit's selection: its group's index; none for the environment,
+// which the tracer samples by part, and for a light of no group (none sends light).
+std::vector<uint32_t> selectionSets(const std::vector<int>& groupOfLight) {
+    std::vector<uint32_t> sets;
+    for (const int group : groupOfLight)
+        sets.push_back(group >= 0 ? uint32_t(group) : LightSelection::kNoSet);
     return sets;
 }
 
 }  // namespace
 
-LightGroupSplit::LightGroupSplit(const Scene& scene)
-    : scene_(scene), groups_(lightGroups(scene.description())) {
+LightGroupSplit::LightGroupSplit(const Scene& scene) : groups_(lightGroups(scene.description())) {
     const SceneDescription& description = scene.description();
     groupOfMaterial_.assign(description.materials.size(), -1);
     std::vector<int> groupOfPunctual(description.lights.size(), -1);
@@ -147,16 +140,10 @@ LightGroupSplit::LightGroupSplit(const Scene& scene)
                                 : origin.kind == Kind::Emissive  ? groupOfMaterial_[origin.index]
                                                                  : -1);
     }
-    selection_ =
-        LightSelection(scene.lights(), selectionSets(scene, groupOfLight_, mapGroup_, sunGroup_));
+    selection_ = LightSelection(scene.lights(), selectionSets(groupOfLight_));
 }
 
-void LightGroupSplit::file(uint32_t light, const Vec3& towards, const Color& value,
-                           std::span<Color> layers) const {
-    if (int(light) == scene_.environmentLightIndex()) {
-        fileEscaped(towards, value, layers);
-        return;
-    }
+void LightGroupSplit::file(uint32_t light, const Color& value, std::span<Color> layers) const {
     if (groupOfLight_[light] >= 0)
         layers[size_t(groupOfLight_[light])] += value;
 }
@@ -165,23 +152,6 @@ void LightGroupSplit::fileEmission(uint32_t material, const Color& value,
                                    std::span<Color> layers) const {
     if (groupOfMaterial_[material] >= 0)
         layers[size_t(groupOfMaterial_[material])] += value;
-}
-
-void LightGroupSplit::fileEscaped(const Vec3& towards, const Color& value,
-                                  std::span<Color> layers) const {
-    const EnvironmentLight* environment = scene_.environment();
-    if (!environment)
-        return;
-    // The sun's share of the radiance from `towards`, per channel.
-    const Color all = environment->radiance(towards);
-    const Color sun = environment->sunRadiance(towards);
-    Color sunShare(0.0f);
-    for (int c = 0; c < 3; ++c)
-        sunShare[c] = all[c] > 0.0f ? sun[c] / all[c] : 0.0f;
-    if (sunGroup_ >= 0)
-        layers[size_t(sunGroup_)] += value * sunShare;
-    if (mapGroup_ >= 0)
-        layers[size_t(mapGroup_)] += value * (Color(1.0f) - sunShare);
 }
 
 }  // namespace penumbra

@@ -40,30 +40,30 @@ SceneDescription litOnlyBy(const SceneDescription& scene, const LightGroup& grou
 
 // The light of one render filed by group, for a tracer whose every contribution comes from one
 // light (the path tracer without a reused solution): next-event estimation draws one light from
-// each group (selection(), whose sets are the groups, the environment's map and sun sharing one
-// as they are one light), so each group's layer is as noisy as a render of that group alone, and
-// each contribution is added to the layer of its light's group. The layers sum to the image.
+// each group (selection(), whose sets are the groups) and one direction from each part of the
+// environment that has a group (its map, its sun: environmentGroup()), so each group's layer is
+// about as noisy as a render of that group alone, and each contribution is added to the layer of
+// its light's group. The layers sum to the image.
 class LightGroupSplit {
   public:
     // The groups of `scene`'s description (lightGroups()); the scene must outlive the split.
     explicit LightGroupSplit(const Scene& scene);
 
     const std::vector<LightGroup>& groups() const { return groups_; }
+    // The sets of the scene's lights but the environment, which the tracer samples by part.
     const LightSelection& selection() const { return selection_; }
+    // The group of the environment's part, or -1 (no environment, a black map, no sun).
+    int environmentGroup(EnvironmentPart part) const {
+        return part == EnvironmentPart::Sun ? sunGroup_ : mapGroup_;
+    }
 
-    // Adds `value`, the light of scene light `light` arriving from unit direction `towards`,
-    // to the entry of its group in `layers` (one per group). The environment's light is shared
-    // between the map's group and the sun's, channel by channel, by their parts of its radiance
-    // from `towards`.
-    void file(uint32_t light, const Vec3& towards, const Color& value,
-              std::span<Color> layers) const;
-    // The same for emission seen on a surface of material `material`, and for the environment's
-    // light reached by a ray that left the scene in direction `towards`.
+    // Adds `value`, the light of scene light `light` (not the environment), to the entry of its
+    // group in `layers` (one per group).
+    void file(uint32_t light, const Color& value, std::span<Color> layers) const;
+    // The same for emission seen on a surface of material `material`.
     void fileEmission(uint32_t material, const Color& value, std::span<Color> layers) const;
-    void fileEscaped(const Vec3& towards, const Color& value, std::span<Color> layers) const;
 
   private:
-    const Scene& scene_;
     std::vector<LightGroup> groups_;
     std::vector<int> groupOfMaterial_;  // per material: its group, -1 when it emits nothing
     std::vector<int> groupOfLight_;     // per light of the scene; -1 for the environment

@@ -29,7 +29,11 @@ std::optional<PowerLightSampler::Choice> PowerLightSampler::sample(float u) cons
 LightSelection::LightSelection(std::span<const std::unique_ptr<Light>> lights,
                                std::vector<uint32_t> setOf)
     : setOf_(std::move(setOf)) {
-    const uint32_t sets = setOf_.empty() ? 0 : *std::max_element(setOf_.begin(), setOf_.end()) + 1;
+    uint32_t sets = 0;
+    for (const uint32_t set : setOf_) {
+        if (set != kNoSet)
+            sets = std::max(sets, set + 1);
+    }
     samplers_.reserve(sets);
     for (uint32_t s = 0; s < sets; ++s)
         samplers_.emplace_back(lights, [this, s](size_t i) { return setOf_[i] == s; });

@@ -5,6 +5,7 @@
 #include "core/light.h"
 #include "core/sampling.h"
 
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <span>
@@ -41,13 +42,17 @@ class PowerLightSampler {
 class LightSelection {
   public:
     LightSelection() = default;
-    // setOf[i]: the set of light i, from 0 to the number of sets less one.
+    // setOf[i]: the set of light i, from 0 to the number of sets less one, or kNoSet for a light
+    // no set draws (whose caller samples it otherwise).
     LightSelection(std::span<const std::unique_ptr<Light>> lights, std::vector<uint32_t> setOf);
+    static constexpr uint32_t kNoSet = UINT32_MAX;
 
     size_t sets() const { return samplers_.size(); }
     const PowerLightSampler& set(size_t s) const { return samplers_[s]; }
-    // The probability that light `light` is drawn by its set's sample.
-    float pmf(uint32_t light) const { return samplers_[setOf_[light]].pmf(light); }
+    // The probability that light `light` is drawn by its set's sample; 0 in no set.
+    float pmf(uint32_t light) const {
+        return setOf_[light] == kNoSet ? 0.0f : samplers_[setOf_[light]].pmf(light);
+    }
 
   private:
     std::vector<uint32_t> setOf_;

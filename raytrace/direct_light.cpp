@@ -9,14 +9,31 @@ namespace penumbra {
 
 namespace {
 
+// The arriving radiance of light sample `ls` at `hit` over its density lightPdf (the light's
+// probability of being drawn times ls->pdf), with a shadow ray, weighted by the power heuristic
+// against bsdf.pdf() (Veach 1997, Eq. 9.13; 1 for a delta light); nothing when no light arrives
+// or `reflects(wi)` says the caller's lobes send none of it back, checked before the shadow ray
+// is cast.
+template <typename Reflects>
+std::optional<Color> incidentLight(const Scene& scene, const std::optional<LightLiSample>& ls,
+                                   float lightPdf, bool delta, const SurfaceHit& hit,
+                                   const Bsdf& bsdf, const Vec3& wo, PathCounters& counters,
+                                   const Reflects& reflects) {
+    if (!ls || !(ls->pdf > 0.0f) || !(lightPdf > 0.0f) || !reflects(ls->wi))
+        return std::nullopt;
+    ++counters.rays;
+    const Color Tr =
+        scene.transmittance(hit.p, hit.pError, hit.ng, ls->pLight, ls->pLightError, ls->nLight);
+    if (maxComponent(Tr) <= 0.0f)
+        return std::nullopt;
+    const float weight = delta ? 1.0f : powerHeuristic(lightPdf, bsdf.pdf(wo, ls->wi));
+    return ls->L * Tr * (weight / lightPdf);
+}
+
 // One light sample for next-event estimation at `hit`: a light chosen by power from `lights`, a
-// point on it and a shadow ray. Returns the light, the direction to it and the arriving radiance
-// over the sample's density, weighted by the power heuristic against bsdf.pdf() (Veach 1997,
-// Eq. 9.13; 1 for a delta light); nothing when no light arrives or `reflects(wi)` says the
-// caller's lobes send none of it back, checked before the shadow ray is cast.
+// point on it and incidentLight(). Returns the light and what incidentLight() returns.
 struct IncidentLight {
     uint32_t light;
-    Vec3 wi;
     Color L;
 };
 template <typename Reflects>
@@ -31,19 +48,27 @@ std::optional<IncidentLight> sampleIncidentLight(const Scene& scene,
     if (!choice)
         return std::nullopt;
     const Light& light = *scene.lights()[choice->light];
-    const LightSampleContext ctx{hit.p, hit.pError, hit.ng};
-    const std::optional<LightLiSample> ls = light.sampleLi(ctx, uPoint);
-    if (!ls || !(ls->pdf > 0.0f) || !reflects(ls->wi))
+    const std::optional<LightLiSample> ls =
+        light.sampleLi(LightSampleContext{hit.p, hit.pError, hit.ng}, uPoint);
+    const std::optional<Color> L =
+        incidentLight(scene, ls, choice->pmf * (ls ? ls->pdf : 0.0f), light.isDelta(), hit, bsdf,
+                      wo, counters, reflects);
+    if (!L)
         return std::nullopt;
-    ++counters.rays;
-    const Color Tr =
-        scene.transmittance(hit.p, hit.pError, hit.ng, ls->pLight, ls->pLightError, ls->nLight);
-    if (maxComponent(Tr) <= 0.0f)
-        return std::nullopt;
-    const float lightPdf = choice->pmf * ls->pdf;
-    const float weight = light.isDelta() ? 1.0f : powerHeuristic(lightPdf, bsdf.pdf(wo, ls->wi));
-    return IncidentLight{choice->light, ls->wi, ls->L * Tr * (weight / lightPdf)};
+    return IncidentLight{choice->light, *L};
 }
+
+// The predicate incidentLight() asks, for all the non-delta lobes: sets f to the BSDF times the
+// cosine towards wi.
+struct AllLobes {
+    const Bsdf& bsdf;
+    const Vec3& wo;
+    Color& f;
+    bool operator()(const Vec3& wi) const {
+        f = bsdf.f(wo, wi) * std::abs(glm::dot(wi, bsdf.shadingNormal()));
+        return maxComponent(f) > 0.0f;
+    }
+};
 
 // The probability with which next-event estimation draws `light`: from its set of `selection`,
 // or without one from the scene's lights.
@@ -67,19 +92,35 @@ Color sampleDirectLight(const Scene& scene, const SurfaceHit& hit, const Bsdf& b
 
 Color sampleDirectLightFromSet(const Scene& scene, const LightSelection& selection, size_t set,
                                const SurfaceHit& hit, const Bsdf& bsdf, const Vec3& wo,
-                               Sampler& sampler, PathCounters& counters,
-                               LightSampleOrigin& origin) {
+                               Sampler& sampler, PathCounters& counters, uint32_t& light) {
     Color f(0.0f);
-    const auto reflects = [&](const Vec3& wi) {
-        f = bsdf.f(wo, wi) * std::abs(glm::dot(wi, bsdf.shadingNormal()));
-        return maxComponent(f) > 0.0f;
-    };
-    const auto incident =
-        sampleIncidentLight(scene, selection.set(set), hit, bsdf, wo, sampler, counters, reflects);
+    const auto incident = sampleIncidentLight(scene, selection.set(set), hit, bsdf, wo, sampler,
+                                              counters, AllLobes{bsdf, wo, f});
     if (!incident)
         return Color(0.0f);
-    origin = {incident->light, incident->wi};
+    light = incident->light;
     return f * incident->L;
+}
+
+Color sampleEnvironmentPart(const Scene& scene, EnvironmentPart part, const SurfaceHit& hit,
+                            const Bsdf& bsdf, const Vec3& wo, Sampler& sampler,
+                            PathCounters& counters) {
+    const Vec2 u = sampler.get2D();
+    const EnvironmentLight* environment = scene.environment();
+    if (!environment)
+        return Color(0.0f);
+    const std::optional<LightLiSample> ls =
+        environment->sampleLi(LightSampleContext{hit.p, hit.pError, hit.ng}, u, part);
+    Color f(0.0f);
+    const std::optional<Color> L = incidentLight(scene, ls, ls ? ls->pdf : 0.0f, false, hit, bsdf,
+                                                 wo, counters, AllLobes{bsdf, wo, f});
+    return L ? f * *L : Color(0.0f);
+}
+
+float environmentPartMisWeight(const Scene& scene, EnvironmentPart part, const Vec3& from,
+                               const Vec3& wi, float bsdfPdf) {
+    const EnvironmentLight* environment = scene.environment();
+    return environment ? powerHeuristic(bsdfPdf, environment->pdfDirection(from, wi, part)) : 1.0f;
 }
 
 DirectLightShares sampleDirectLightShares(const Scene& scene, const SurfaceHit& hit,
@@ -110,12 +151,11 @@ float emissionMisWeight(const Scene& scene, const LightSampleContext& ctx, const
     return powerHeuristic(bsdfPdf, lightPdf);
 }
 
-float escapedMisWeight(const Scene& scene, const Vec3& from, const Vec3& wi, float bsdfPdf,
-                       const LightSelection* selection) {
+float escapedMisWeight(const Scene& scene, const Vec3& from, const Vec3& wi, float bsdfPdf) {
     const EnvironmentLight* environment = scene.environment();
     if (!environment)
         return 1.0f;
-    const float lightPdf = selectionPmf(scene, uint32_t(scene.environmentLightIndex()), selection) *
+    const float lightPdf = scene.lightSampler().pmf(uint32_t(scene.environmentLightIndex())) *
                            environment->pdfDirection(from, wi);
     return powerHeuristic(bsdfPdf, lightPdf);
 }

@@ -20,19 +20,23 @@ Color sampleDirectLight(const Scene& scene, const SurfaceHit& hit, const Bsdf& b
                         Sampler& sampler, PathCounters& counters,
                         ReflectingLobes lobes = ReflectingLobes::All);
 
-// The light a sample of next-event estimation came from, for a tracer that files light by group:
-// its index in scene.lights() and the unit direction from the receiver towards it.
-struct LightSampleOrigin {
-    uint32_t light = 0;
-    Vec3 wi{0.0f};
-};
-
 // sampleDirectLight with the light drawn from set `set` of `selection` (core/light_sampler.h)
 // instead of from all the scene's lights, and weighted against bsdf.pdf() with its pmf in that
-// set. `origin` receives the light drawn when the result is not zero.
+// set. `light` receives the light drawn (its index in scene.lights()) when the result is not zero.
 Color sampleDirectLightFromSet(const Scene& scene, const LightSelection& selection, size_t set,
                                const SurfaceHit& hit, const Bsdf& bsdf, const Vec3& wo,
-                               Sampler& sampler, PathCounters& counters, LightSampleOrigin& origin);
+                               Sampler& sampler, PathCounters& counters, uint32_t& light);
+
+// The same from one part of the environment alone (its map or its sun: EnvironmentLight's
+// sampleLi(.., part)), drawn at every call, weighted against bsdf.pdf() with that part's density;
+// zero without an environment. environmentPartMisWeight() is the weight of the part's radiance
+// that a BSDF sample of density bsdfPdf, leaving point `from`, found past a ray that left the
+// scene in direction wi.
+Color sampleEnvironmentPart(const Scene& scene, EnvironmentPart part, const SurfaceHit& hit,
+                            const Bsdf& bsdf, const Vec3& wo, Sampler& sampler,
+                            PathCounters& counters);
+float environmentPartMisWeight(const Scene& scene, EnvironmentPart part, const Vec3& from,
+                               const Vec3& wi, float bsdfPdf);
 
 // The reflected radiance of sampleDirectLight by all the non-delta lobes and by the glossy ones
 // alone, from one light sample and one shadow ray: for a tracer that takes the Lambertian layer's
@@ -56,8 +60,7 @@ float emissionMisWeight(const Scene& scene, const LightSampleContext& ctx, const
 
 // The same for the environment's radiance that a BSDF sample of density bsdfPdf, leaving point
 // `from`, found past a ray that left the scene in direction wi; 1 without an environment.
-float escapedMisWeight(const Scene& scene, const Vec3& from, const Vec3& wi, float bsdfPdf,
-                       const LightSelection* selection = nullptr);
+float escapedMisWeight(const Scene& scene, const Vec3& from, const Vec3& wi, float bsdfPdf);
 
 // The whole direct light reflected towards wo by the non-delta lobes, for a tracer that traces
 // no further bounce from this vertex (distribution ray tracing): the light sample above and one

@@ -11,6 +11,8 @@ namespace penumbra {
 
 namespace {
 
+constexpr EnvironmentPart kEnvironmentParts[] = {EnvironmentPart::Map, EnvironmentPart::Sun};
+
 // Paths always have at least this probability of ending at each roulette test, so that a
 // path cannot run forever even in a closed box of perfect mirrors; the survivors are
 // reweighted by 1 / (1 - q), which keeps the estimator unbiased. It must stay below 1 - rho^2:
@@ -201,13 +203,22 @@ PathRadiance PathTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHit,
         ++counters.rays;
         const std::optional<SurfaceHit> hit = scene_.intersect(ray);
         if (!hit) {
-            if (scene_.environment()) {
-                const Color added = addEmission(
+            if (scene_.environment() && groups_) {
+                // The map and the sun apart, each weighed against its own light sample.
+                for (const EnvironmentPart part : kEnvironmentParts) {
+                    const int group = groups_->environmentGroup(part);
+                    if (group < 0)
+                        continue;
+                    L.groups[size_t(group)] +=
+                        addEmission(scene_.environment()->radiance(ray.d, part),
+                                    lastDelta ? 1.0f
+                                              : environmentPartMisWeight(scene_, part, lastCtx.p,
+                                                                         ray.d, lastBsdfPdf));
+                }
+            } else if (scene_.environment()) {
+                addEmission(
                     scene_.escaped(ray.d),
-                    lastDelta ? 1.0f
-                              : escapedMisWeight(scene_, lastCtx.p, ray.d, lastBsdfPdf, selection));
-                if (groups_)
-                    groups_->fileEscaped(ray.d, added, L.groups);
+                    lastDelta ? 1.0f : escapedMisWeight(scene_, lastCtx.p, ray.d, lastBsdfPdf));
             }
             break;
         }
@@ -276,15 +287,23 @@ PathRadiance PathTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHit,
             const bool glossy = (bsdf.lobes() & kLobeGlossy) != 0;
             const bool correctionLive = maxComponent(w.correction() + corrected) > 0.0f;
             if (!reuseHere && groups_) {
-                // One light from each group, each filed under its group.
+                // One light from each group, and a direction from each part of the
+                // environment, each filed under its group.
                 for (size_t set = 0; set < selection->sets(); ++set) {
-                    LightSampleOrigin origin;
+                    uint32_t light = 0;
                     const Color direct = sampleDirectLightFromSet(
-                        scene_, *selection, set, *hit, bsdf, wo, sampler, counters, origin);
+                        scene_, *selection, set, *hit, bsdf, wo, sampler, counters, light);
                     if (maxComponent(direct) > 0.0f) {
-                        groups_->file(origin.light, origin.wi,
-                                      add(reflectedHere, w.unheld, w.correction(), direct),
+                        groups_->file(light, add(reflectedHere, w.unheld, w.correction(), direct),
                                       L.groups);
+                    }
+                }
+                for (const EnvironmentPart part : kEnvironmentParts) {
+                    const int group = groups_->environmentGroup(part);
+                    if (group >= 0) {
+                        L.groups[size_t(group)] += add(
+                            reflectedHere, w.unheld, w.correction(),
+                            sampleEnvironmentPart(scene_, part, *hit, bsdf, wo, sampler, counters));
                     }
                 }
             } else if (!reuseHere) {

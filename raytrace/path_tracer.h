@@ -44,9 +44,10 @@
 // path scatters at and the lobe the first one was left through.
 //
 // Asked to file its light by group (core/light_groups.h: LightGroupSplit), the tracer without
-// reuse draws one light from each group at every next-event estimate (the sum over groups of
-// each group's estimate, Veach's MIS weights taken within the group), and adds each
-// contribution to its light's group too (PathRadiance::groups).
+// reuse draws one light from each group and one direction from each part of the environment
+// (its map, its sun) at every next-event estimate (the sum over groups of each group's estimate,
+// Veach's MIS weights taken within the group or the part), and adds each contribution to its
+// light's group too (PathRadiance::groups).
 #pragma once
 
 #include "core/light_groups.h"

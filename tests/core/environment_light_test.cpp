@@ -463,6 +463,65 @@ TEST(EnvironmentLight, SunAndSkyAddUp) {
     EXPECT_LT(sigma, 0.01 * (skyAlone.mean.y + sunPart));
 }
 
+TEST(EnvironmentLight, ThePartsSampleApart) {
+    // What a render filed by light group draws: the map's part alone follows the map's density
+    // (chi-square), carries the map's radiance and estimates the irradiance of a light without
+    // the sun; the sun's part alone stays in the disc and gives E_n cos(theta).
+    const SunDisc sun = testSun();
+    const Image sky = sunImage(24, 12, 20.0f);
+    const EnvironmentLight withSun(sky, environmentRotation(30.0f), 1.0f, kCenter, kRadius, "",
+                                   sun);
+    const EnvironmentLight skyOnly(sky, environmentRotation(30.0f), 1.0f, kCenter, kRadius, "");
+    const LightSampleContext ctx{kCenter, Vec3(0.0f), glm::normalize(Vec3(0.2f, 1.0f, 0.3f))};
+    std::mt19937 rng(43);
+    std::uniform_real_distribution<float> uniform(0.0f, 1.0f);
+    for (int i = 0; i < 20000; ++i) {
+        const Vec2 u(uniform(rng), uniform(rng));
+        for (const EnvironmentPart part : {EnvironmentPart::Map, EnvironmentPart::Sun}) {
+            const std::optional<LightLiSample> s = withSun.sampleLi(ctx, u, part);
+            if (!s)
+                continue;
+            ASSERT_EQ(s->pdf, withSun.pdfDirection(ctx.p, s->wi, part));
+            ASSERT_EQ(s->L, withSun.radiance(s->wi, part));
+            ASSERT_EQ(sun.contains(s->wi), part == EnvironmentPart::Sun);
+        }
+    }
+    ASSERT_EQ(withSun.radiance(sun.direction, EnvironmentPart::Map) +
+                  withSun.radiance(sun.direction, EnvironmentPart::Sun),
+              withSun.radiance(sun.direction));
+
+    const auto sample = [&](const Vec3& u) -> std::optional<Vec3> {
+        const std::optional<LightLiSample> s =
+            withSun.sampleLi(ctx, Vec2(u.x, u.y), EnvironmentPart::Map);
+        return s ? std::optional<Vec3>(yUpToZUp(s->wi)) : std::nullopt;
+    };
+    const auto pdf = [&](const Vec3& w) -> float {
+        const Vec3 world = zUpToYUp(w);
+        return maxComponent(withSun.radiance(world, EnvironmentPart::Map)) > 0.0f
+                   ? withSun.pdfDirection(ctx.p, world, EnvironmentPart::Map)
+                   : 0.0f;
+    };
+    Chi2Options options;
+    options.seed = 13;
+    options.testCount = 2;
+    const Chi2Result result = chi2Test(sample, pdf, options);
+    EXPECT_TRUE(result.passed) << result.report;
+
+    const Irradiance map = irradiance(
+        ctx.n, 200000, 47, [&](Vec2 u) { return withSun.sampleLi(ctx, u, EnvironmentPart::Map); });
+    const Irradiance skyAlone =
+        irradiance(ctx.n, 200000, 41, [&](Vec2 u) { return skyOnly.sampleLi(ctx, u); });
+    EXPECT_NEAR(map.mean.y, skyAlone.mean.y,
+                4.0 * std::hypot(map.standardError.y, skyAlone.standardError.y));
+    const Irradiance disc = irradiance(
+        ctx.n, 20000, 53, [&](Vec2 u) { return withSun.sampleLi(ctx, u, EnvironmentPart::Sun); });
+    const double sunPart = sun.directNormalIlluminance * glm::dot(ctx.n, sun.direction);
+    // The cosine's variation over the disc (SunAloneLightsAPlaneWithEnCosTheta's bound).
+    EXPECT_NEAR(disc.mean.y, sunPart, 1e-3 * sun.directNormalIlluminance);
+    // Without a sun, its part draws nothing.
+    EXPECT_FALSE(skyOnly.sampleLi(ctx, Vec2(0.5f), EnvironmentPart::Sun));
+}
+
 // Validation ---------------------------------------------------------------------------------
 
 TEST(EnvironmentLight, FindsBadPixels) {
