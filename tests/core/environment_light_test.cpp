@@ -423,16 +423,23 @@ TEST(EnvironmentLight, SunAloneLightsAPlaneWithEnCosTheta) {
     EXPECT_EQ(light.power(), Color(kPi * sqr(kRadius) * sun.directNormalIlluminance));
 }
 
+// A sky map with and without the sun, and a receiver tilted from the zenith.
+struct SunOverSky {
+    SunDisc sun = testSun();
+    Image sky = sunImage(24, 12, 20.0f);
+    EnvironmentLight withSun{sky, environmentRotation(30.0f), 1.0f, kCenter, kRadius, "", sun};
+    EnvironmentLight skyOnly{sky, environmentRotation(30.0f), 1.0f, kCenter, kRadius, ""};
+    LightSampleContext ctx{kCenter, Vec3(0.0f), glm::normalize(Vec3(0.2f, 1.0f, 0.3f))};
+};
+
 TEST(EnvironmentLight, SunAndSkyAddUp) {
     // The mixture of the sky's distribution and the disc: its samples carry the density and
     // radiance pdfDirection() and radiance() give, and the irradiance it estimates is the sky's
     // (from a light without the sun) plus E_n cos(theta).
-    const SunDisc sun = testSun();
-    const Image sky = sunImage(24, 12, 20.0f);
-    const EnvironmentLight withSun(sky, environmentRotation(30.0f), 1.0f, kCenter, kRadius, "",
-                                   sun);
-    const EnvironmentLight skyOnly(sky, environmentRotation(30.0f), 1.0f, kCenter, kRadius, "");
-    const LightSampleContext ctx{kCenter, Vec3(0.0f), glm::normalize(Vec3(0.2f, 1.0f, 0.3f))};
+    const SunOverSky scene;
+    const SunDisc& sun = scene.sun;
+    const EnvironmentLight &withSun = scene.withSun, &skyOnly = scene.skyOnly;
+    const LightSampleContext& ctx = scene.ctx;
     std::mt19937 rng(31);
     std::uniform_real_distribution<float> uniform(0.0f, 1.0f);
     int inDisc = 0;
@@ -467,12 +474,10 @@ TEST(EnvironmentLight, ThePartsSampleApart) {
     // What a render filed by light group draws: the map's part alone follows the map's density
     // (chi-square), carries the map's radiance and estimates the irradiance of a light without
     // the sun; the sun's part alone stays in the disc and gives E_n cos(theta).
-    const SunDisc sun = testSun();
-    const Image sky = sunImage(24, 12, 20.0f);
-    const EnvironmentLight withSun(sky, environmentRotation(30.0f), 1.0f, kCenter, kRadius, "",
-                                   sun);
-    const EnvironmentLight skyOnly(sky, environmentRotation(30.0f), 1.0f, kCenter, kRadius, "");
-    const LightSampleContext ctx{kCenter, Vec3(0.0f), glm::normalize(Vec3(0.2f, 1.0f, 0.3f))};
+    const SunOverSky scene;
+    const SunDisc& sun = scene.sun;
+    const EnvironmentLight &withSun = scene.withSun, &skyOnly = scene.skyOnly;
+    const LightSampleContext& ctx = scene.ctx;
     std::mt19937 rng(43);
     std::uniform_real_distribution<float> uniform(0.0f, 1.0f);
     for (int i = 0; i < 20000; ++i) {
