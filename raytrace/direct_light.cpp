@@ -58,14 +58,15 @@ std::optional<IncidentLight> sampleIncidentLight(const Scene& scene,
     return IncidentLight{choice->light, *L};
 }
 
-// The predicate incidentLight() asks, for all the non-delta lobes: sets f to the BSDF times the
-// cosine towards wi.
-struct AllLobes {
+// The predicate incidentLight() asks, for the lobes `lobes`: sets f to their BSDF times the cosine
+// towards wi.
+struct LobesReflect {
     const Bsdf& bsdf;
     const Vec3& wo;
     Color& f;
+    ReflectingLobes lobes = ReflectingLobes::All;
     bool operator()(const Vec3& wi) const {
-        f = bsdf.f(wo, wi) * std::abs(glm::dot(wi, bsdf.shadingNormal()));
+        f = bsdf.f(wo, wi, lobes) * std::abs(glm::dot(wi, bsdf.shadingNormal()));
         return maxComponent(f) > 0.0f;
     }
 };
@@ -81,12 +82,8 @@ float selectionPmf(const Scene& scene, uint32_t light, const LightSelection* sel
 Color sampleDirectLight(const Scene& scene, const SurfaceHit& hit, const Bsdf& bsdf, const Vec3& wo,
                         Sampler& sampler, PathCounters& counters, ReflectingLobes lobes) {
     Color f(0.0f);
-    const auto reflects = [&](const Vec3& wi) {
-        f = bsdf.f(wo, wi, lobes) * std::abs(glm::dot(wi, bsdf.shadingNormal()));
-        return maxComponent(f) > 0.0f;
-    };
     const auto incident = sampleIncidentLight(scene, scene.lightSampler(), hit, bsdf, wo, sampler,
-                                              counters, reflects);
+                                              counters, LobesReflect{bsdf, wo, f, lobes});
     return incident ? f * incident->L : Color(0.0f);
 }
 
@@ -95,7 +92,7 @@ Color sampleDirectLightFromSet(const Scene& scene, const LightSelection& selecti
                                Sampler& sampler, PathCounters& counters, uint32_t& light) {
     Color f(0.0f);
     const auto incident = sampleIncidentLight(scene, selection.set(set), hit, bsdf, wo, sampler,
-                                              counters, AllLobes{bsdf, wo, f});
+                                              counters, LobesReflect{bsdf, wo, f});
     if (!incident)
         return Color(0.0f);
     light = incident->light;
@@ -113,7 +110,7 @@ Color sampleEnvironmentPart(const Scene& scene, EnvironmentPart part, const Surf
         environment->sampleLi(LightSampleContext{hit.p, hit.pError, hit.ng}, u, part);
     Color f(0.0f);
     const std::optional<Color> L = incidentLight(scene, ls, ls ? ls->pdf : 0.0f, false, hit, bsdf,
-                                                 wo, counters, AllLobes{bsdf, wo, f});
+                                                 wo, counters, LobesReflect{bsdf, wo, f});
     return L ? f * *L : Color(0.0f);
 }
 
