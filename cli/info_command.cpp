@@ -61,6 +61,16 @@ void printInfo(const Scene& scene) {
     std::cout << "\nbounds:     (" << b.lo.x << ", " << b.lo.y << ", " << b.lo.z << ") to ("
               << b.hi.x << ", " << b.hi.y << ", " << b.hi.z << ") m, relative to (" << desc.origin.x
               << ", " << desc.origin.y << ", " << desc.origin.z << ") in the file\n";
+    if (const HomogeneousMedium* medium = scene.medium()) {
+        const Color& sigmaS = medium->sigmaS();
+        const Color sigmaA = medium->sigmaT() - sigmaS;
+        const Bounds3& box = medium->box();
+        std::cout << "medium:     sigma_a (" << sigmaA.r << ", " << sigmaA.g << ", " << sigmaA.b
+                  << ") /m, sigma_s (" << sigmaS.r << ", " << sigmaS.g << ", " << sigmaS.b
+                  << ") /m, g " << medium->phase().g() << ", in (" << box.lo.x << ", " << box.lo.y
+                  << ", " << box.lo.z << ") to (" << box.hi.x << ", " << box.hi.y << ", "
+                  << box.hi.z << ") m\n";
+    }
     std::cout << "extensions: ";
     for (const std::string& e : desc.report.extensionsUsed)
         std::cout << e << " ";

@@ -38,6 +38,7 @@ void printPlan(PlanOptions& options) {
               << (contents.specular ? "specular" : "no specular") << " surfaces, "
               << contents.areaLights << " emissive triangles, " << contents.punctualLights
               << " punctual lights" << (contents.environment ? ", an environment" : "")
+              << (contents.medium ? ", a participating medium" : "")
               << "\npaths:     the scene can hold " << plan.universe << "\npasses:\n";
     for (size_t i = 0; i < pipeline.passes().size(); ++i) {
         const Pass& pass = *pipeline.passes()[i];

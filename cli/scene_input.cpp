@@ -110,6 +110,7 @@ std::optional<PassScript> readPassScript(SceneInput& input) {
     if (environment.portals.empty())
         environment.portals = script.portals;
     input.luminaires = script.luminaires;
+    input.medium = script.medium;
     return script;
 }
 
@@ -363,6 +364,24 @@ Mat3 luminaireFrame(const ScriptLuminaire& luminaire) {
     return Mat3(glm::dmat3(x, glm::cross(z, x), z));
 }
 
+// A pass script's [[medium]] table as the scene's medium, its box moved into penumbra's frame.
+void addMedium(const std::optional<ScriptMedium>& medium, SceneDescription& description) {
+    if (!medium)
+        return;
+    MediumDesc desc;
+    desc.name = "[[medium]]";
+    desc.sigmaA = Color(medium->sigmaA[0], medium->sigmaA[1], medium->sigmaA[2]);
+    desc.sigmaS = Color(medium->sigmaS[0], medium->sigmaS[1], medium->sigmaS[2]);
+    desc.g = medium->g;
+    if (const auto& box = medium->box) {
+        Bounds3 bounds;
+        bounds.extend(Vec3(glm::dvec3((*box)[0], (*box)[1], (*box)[2]) - description.origin));
+        bounds.extend(Vec3(glm::dvec3((*box)[3], (*box)[4], (*box)[5]) - description.origin));
+        desc.box = bounds;
+    }
+    description.media.push_back(desc);
+}
+
 // A pass script's [[luminaire]] tables as luminaires of the scene, each file read once.
 void addLuminaires(const std::vector<ScriptLuminaire>& luminaires, SceneDescription& description) {
     std::map<std::string, std::shared_ptr<const CandelaTable>> tables;
@@ -407,6 +426,7 @@ std::unique_ptr<Scene> loadScene(const SceneInput& input) {
     SceneDescription description = loadGltf(input.path, input.sceneIndex);
     applyEnvironment(input.environment, description);
     addLuminaires(input.luminaires, description);
+    addMedium(input.medium, description);
     if (!input.quiet) {
         for (const std::string& warning : description.report.warnings) {
             std::cerr << "penumbra: warning: " << warning << "\n";

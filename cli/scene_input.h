@@ -43,6 +43,7 @@ struct SceneInput {
     bool quiet = false;
     EnvironmentInput environment;
     std::vector<ScriptLuminaire> luminaires;  // a pass script's [[luminaire]] tables
+    std::optional<ScriptMedium> medium;       // a pass script's [[medium]] table
 };
 
 // Whether a command reads pass scripts as its SCENE (render, plan, info) or glTF only.

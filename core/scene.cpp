@@ -4,6 +4,8 @@
 #include "core/punctual_lights.h"
 #include "core/triangle_light.h"
 
+#include <stdexcept>
+
 namespace penumbra {
 
 namespace {
@@ -22,6 +24,12 @@ Scene::Scene(SceneDescription description, const PortalFinder& findPortals)
         triangleCount_ += mesh.triangles.size();
     }
     accel_ = std::make_unique<Accel>(desc_.meshes);
+    if (desc_.media.size() > 1)
+        throw std::logic_error("Scene: at most one participating medium");
+    if (!desc_.media.empty()) {
+        const MediumDesc& medium = desc_.media.front();
+        medium_ = std::make_unique<HomogeneousMedium>(medium, medium.box.value_or(bounds_));
+    }
     for (const Mesh& mesh : desc_.meshes) {
         hasTransparentSurfaces_ =
             hasTransparentSurfaces_ || canBeTransparent(desc_.materials[mesh.material]);
@@ -193,6 +201,18 @@ Ray Scene::spawnRay(const SurfaceHit& hit, const Vec3& w) {
 
 Color Scene::transmittance(const Vec3& from, const Vec3& fromError, const Vec3& fromNormal,
                            const Vec3& to, const Vec3& toError, const Vec3& toNormal) const {
+    const Color surfaces = surfaceTransmittance(from, fromError, fromNormal, to, toError, toNormal);
+    if (!medium_ || !(maxComponent(surfaces) > 0.0f))
+        return surfaces;
+    const Vec3 d = to - from;
+    const float distance = glm::length(d);
+    if (!(distance > 0.0f))
+        return surfaces;
+    return surfaces * medium_->transmittance(Ray{from, d / distance}, distance);
+}
+
+Color Scene::surfaceTransmittance(const Vec3& from, const Vec3& fromError, const Vec3& fromNormal,
+                                  const Vec3& to, const Vec3& toError, const Vec3& toNormal) const {
     Color throughput(1.0f);
     Vec3 origin = from;
     Vec3 originError = fromError;

@@ -9,6 +9,7 @@
 #include "core/interaction.h"
 #include "core/light.h"
 #include "core/light_sampler.h"
+#include "core/medium.h"
 #include "core/ray.h"
 #include "core/scene_description.h"
 
@@ -86,6 +87,9 @@ class Scene {
         return environment_ ? environment_->radiance(d) : Color(0.0f);
     }
 
+    // The participating medium (SceneDescription::media, core/medium.h), or null.
+    const HomogeneousMedium* medium() const { return medium_.get(); }
+
     // Transparent surfaces (straightTransmittance) a ray passes before it is treated as blocked:
     // the same for shadow rays, photons and the rays that look at a radiosity solution, so that
     // they agree. Architectural glazing has 2 to 6, foliage cut-outs a few more.
@@ -99,7 +103,8 @@ class Scene {
 
     // Fraction of light carried unoccluded from point `to` to point `from` (both on surfaces,
     // with error bounds and normals for robust offsets; a zero normal means a point off any
-    // surface). 0 when blocked, 1 when free, in between through transparent surfaces.
+    // surface). 0 when blocked, 1 when free, in between through transparent surfaces and the
+    // medium (its transmittance over the segment).
     Color transmittance(const Vec3& from, const Vec3& fromError, const Vec3& fromNormal,
                         const Vec3& to, const Vec3& toError, const Vec3& toNormal) const;
 
@@ -107,6 +112,10 @@ class Scene {
     static Ray spawnRay(const SurfaceHit& hit, const Vec3& w);
 
   private:
+    // transmittance() without the medium.
+    Color surfaceTransmittance(const Vec3& from, const Vec3& fromError, const Vec3& fromNormal,
+                               const Vec3& to, const Vec3& toError, const Vec3& toNormal) const;
+
     SceneDescription desc_;
     std::unique_ptr<Accel> accel_;
     std::vector<std::unique_ptr<Light>> lights_;
@@ -117,6 +126,7 @@ class Scene {
     const EnvironmentLight* environment_ = nullptr;  // owned by lights_
     int environmentIndex_ = -1;
     Bounds3 bounds_;
+    std::unique_ptr<HomogeneousMedium> medium_;
     size_t triangleCount_ = 0;
     bool hasTransparentSurfaces_ = false;  // if not, shadow rays need only an occlusion test
 };

@@ -101,6 +101,8 @@ SceneContents analyseScene(const Scene& scene) {
         else
             ++contents.punctualLights;
     }
+    contents.medium = scene.medium() != nullptr;
+    contents.mediumScatters = contents.medium && scene.medium()->scatters();
     contents.lightSolidAngleAtSpecular = lightSolidAngleAtSpecular(scene, specularMeshes);
     return contents;
 }

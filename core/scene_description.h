@@ -6,6 +6,7 @@
 #include "core/image.h"
 #include "core/material.h"
 #include "core/math.h"
+#include "core/medium.h"
 #include "core/photometry.h"
 #include "core/portals.h"
 #include "core/sun_disc.h"
@@ -105,6 +106,8 @@ struct SceneDescription {
     std::vector<CameraDesc> cameras;
     // From the scene's `extras` (a converted Mitsuba scene's envmap), or given by the user.
     std::optional<EnvironmentDesc> environment;
+    // Participating media (core/medium.h), given by a pass script; at most one for now.
+    std::vector<MediumDesc> media;
     std::string sceneExtrasJson;  // the loaded scene's `extras` as JSON text (e.g. a sky), or empty
     LoadReport report;
 };

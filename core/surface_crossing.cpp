@@ -5,11 +5,14 @@
 
 namespace penumbra {
 
+bool insideSolid(const Scene& scene, const SurfaceHit& hit, const Vec3& direction) {
+    return !scene.material(hit).thinWalled() && !hit.frontFace(direction);
+}
+
 Color volumeAttenuation(const Scene& scene, const SurfaceHit& hit, const Vec3& direction) {
-    const Material& m = scene.material(hit);
-    if (m.thinWalled() || hit.frontFace(direction))
+    if (!insideSolid(scene, hit, direction))
         return Color(1.0f);
-    return glm::exp(-m.absorption() * hit.t);
+    return glm::exp(-scene.material(hit).absorption() * hit.t);
 }
 
 StraightThrough chooseStraightThrough(const Scene& scene, const SurfaceHit& hit, const Bsdf& bsdf,

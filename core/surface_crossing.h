@@ -11,8 +11,12 @@ namespace penumbra {
 
 class Sampler;
 
-// Beer-Lambert attenuation exp(-sigma t) of a segment inside a volume material, known when the
-// segment ends on the material's back face (a closed solid leaves through its back faces).
+// Whether the segment of a ray in `direction` that ends at `hit` runs inside a volume material:
+// it ends on the material's back face (a closed solid leaves through its back faces). Such a
+// segment is not in the scene's participating medium (core/medium.h).
+bool insideSolid(const Scene& scene, const SurfaceHit& hit, const Vec3& direction);
+
+// Beer-Lambert attenuation exp(-sigma t) of a segment inside a volume material (insideSolid).
 Color volumeAttenuation(const Scene& scene, const SurfaceHit& hit, const Vec3& direction);
 
 // Straight-through transparency: the ray continues unchanged with probability q = min(max

@@ -25,6 +25,7 @@ class CompositePass : public Pass {
     }
     std::string type() const override { return "composite"; }
     std::string lightPaths() const override { return ""; }
+    bool rendersMedia() const override { return true; }  // it only sums the others' images
     void prepare(PassContext&) override {}
     bool run(PassContext& context) override;
     PassStats stats() const override { return stats_; }

@@ -182,6 +182,10 @@ class Pass {
     // RenderSettings::lightGroups asks it to (its layers "light.GROUP" sum to its image): then a
     // pipeline whose passes all do renders its light groups at once. Valid after adapt().
     virtual bool splitsLightGroups() const { return false; }
+    // Whether what the pass adds (its image or its products) accounts for a participating
+    // medium: its attenuation and its in-scattered light. The planner refuses a scene with a
+    // medium for a pipeline with a pass that runs and does not. Valid after adapt().
+    virtual bool rendersMedia() const { return false; }
     // The pass's parameters as resolved, for the plan and the log.
     virtual PassStats parameters() const { return {}; }
     // Why the pass has nothing to do for a scene with these contents, so that the planner skips

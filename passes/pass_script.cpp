@@ -26,6 +26,8 @@
 //   luminaire    array of tables           none               measured luminaires: file,
 //                                                             position, aim, c0, multiplier,
 //                                                             color (docs/pass-scripts.md)
+//   medium       array of one table        none               a participating medium: sigma_a,
+//                                                             sigma_s, g, box
 //   pass         array of tables           required           the passes, in order
 #include "passes/pass_script.h"
 
@@ -200,6 +202,11 @@ bool ScriptTable::has(const std::string& key) const {
 bool ScriptTable::holdsString(const std::string& key) const {
     const toml::node* node = impl_->table->get(key);
     return node && node->is_string();
+}
+
+bool ScriptTable::holdsArray(const std::string& key) const {
+    const toml::node* node = impl_->table->get(key);
+    return node && node->is_array();
 }
 
 ScriptLocation ScriptTable::location(const std::string& key) const {
@@ -465,6 +472,47 @@ ScriptLuminaire readLuminaire(const ScriptTable& t) {
     return luminaire;
 }
 
+// A medium's coefficient per channel, per metre: a number for all three or an array of three,
+// each finite and >= 0; zero when absent.
+std::array<float, 3> readCoefficients(const ScriptTable& t, const std::string& key) {
+    std::array<float, 3> values{};
+    if (t.holdsArray(key)) {
+        const std::vector<double> given = *t.numbers(key, 3);
+        for (size_t i = 0; i < 3; ++i)
+            values[i] = float(given[i]);
+    } else {
+        values.fill(t.get<float>(key, 0.0f));
+    }
+    for (const float value : values) {
+        if (!(value >= 0.0f && std::isfinite(value)))
+            throw t.error(key, "expected a number >= 0 (per metre) or an array of three");
+    }
+    return values;
+}
+
+// The [[medium]] table: sigma_a and sigma_s (at least one of them not zero), g, and the box.
+ScriptMedium readMedium(const ScriptTable& t) {
+    ScriptMedium medium;
+    medium.sigmaA = readCoefficients(t, "sigma_a");
+    medium.sigmaS = readCoefficients(t, "sigma_s");
+    if (!t.has("sigma_a") && !t.has("sigma_s"))
+        throw t.error("sigma_s", "missing: a medium needs sigma_a or sigma_s (per metre)");
+    medium.g = t.get<float>("g", 0.0f);
+    if (!(medium.g > -1.0f && medium.g < 1.0f))
+        throw t.error("g", "expected a number in (-1, 1), got " + number(medium.g));
+    if (const std::optional<std::vector<double>> box = t.numbers("box", 6)) {
+        for (size_t axis = 0; axis < 3; ++axis) {
+            if (!((*box)[axis] < (*box)[axis + 3]))
+                throw t.error("box",
+                              "expected [x0, y0, z0, x1, y1, z1] with x0 < x1, y0 < y1 "
+                              "and z0 < z1");
+        }
+        medium.box =
+            std::array<double, 6>{(*box)[0], (*box)[1], (*box)[2], (*box)[3], (*box)[4], (*box)[5]};
+    }
+    return medium;
+}
+
 // The portals, each checked at its place ("auto": the scene's openings, found when it is loaded;
 // "none": no portal, not even found ones).
 std::vector<std::string> readPortals(const ScriptTable& top) {
@@ -571,6 +619,7 @@ PassScript loadPassScript(const std::string& path) {
             optionalIn(top, "sun_direct_normal", 0.0f, std::numeric_limits<float>::max()),
         .portals = readPortals(top),
         .luminaires = {},
+        .medium = {},
         .passes = {},
         .topLevel = top};
 
@@ -606,6 +655,25 @@ PassScript loadPassScript(const std::string& path) {
             const ScriptTable t =
                 tableAt(&table, "luminaire[" + std::to_string(i) + "]", locationOf(table.source()));
             script.luminaires.push_back(readLuminaire(t));
+            t.reportUnused();
+        }
+    }
+    // [[medium]]: a participating medium, one for now.
+    if (const toml::node* media = top.impl_->lookup("medium")) {
+        const toml::array* list = media->as_array();
+        if (!list || !list->is_array_of_tables()) {
+            throw top.error("medium", "expected a [[medium]] table (an array of tables), got " +
+                                          describe(*media));
+        }
+        for (size_t i = 0; i < list->size(); ++i) {
+            const toml::table& table = *list->get(i)->as_table();
+            const ScriptTable t =
+                tableAt(&table, "medium[" + std::to_string(i) + "]", locationOf(table.source()));
+            if (i > 0) {
+                throw t.error(t.location(), "",
+                              "a second [[medium]]: penumbra renders one medium for now");
+            }
+            script.medium = readMedium(t);
             t.reportUnused();
         }
     }

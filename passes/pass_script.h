@@ -58,6 +58,9 @@ class ScriptTable {
     // Whether the key holds a string, for keys that take a string or a number; does not count
     // as reading the key.
     bool holdsString(const std::string& key) const;
+    // Whether the key holds an array, for keys that take a number or an array; does not count as
+    // reading the key.
+    bool holdsArray(const std::string& key) const;
     // Where the key's value is; the table's location when the key is absent.
     ScriptLocation location(const std::string& key) const;
 
@@ -105,6 +108,15 @@ struct ScriptLuminaire {
     std::array<float, 3> color{1.0f, 1.0f, 1.0f};
 };
 
+// The [[medium]] table: a homogeneous participating medium (core/medium.h) placed by the script.
+struct ScriptMedium {
+    std::array<float, 3> sigmaA{}, sigmaS{};  // per metre, per channel
+    float g = 0.0f;                           // in (-1, 1)
+    // [x0, y0, z0, x1, y1, z1], metres, the glTF file's world frame, lo < hi on every axis;
+    // nothing: the scene's bounding box.
+    std::optional<std::array<double, 6>> box;
+};
+
 // One [[pass]] table: its type and its parameters (`type` already read).
 struct ScriptPass {
     std::string type;
@@ -137,6 +149,7 @@ struct PassScript {
     // Portals, each "X0,Y0,Z0,X1,Y1,Z1,X2,Y2,Z2" as --portal takes it (core/portals.h), checked.
     std::vector<std::string> portals;
     std::vector<ScriptLuminaire> luminaires;  // [[luminaire]] tables, in order
+    std::optional<ScriptMedium> medium;       // the [[medium]] table (at most one for now)
     std::vector<ScriptPass> passes;           // at least one, in order
     ScriptTable topLevel;                     // for errors about top-level values found later
 };

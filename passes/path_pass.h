@@ -60,6 +60,11 @@ class PathPass : public SamplingPass {
     void adapt(const PipelineShape& shape) override;
     // Without reuse: every contribution of the path tracer comes from one light.
     bool splitsLightGroups() const override { return !settings_.reuseRadiosity; }
+    // Media are the path tracer's own (raytrace/path_tracer.h); reuse and the caustic pass's
+    // share have no medium yet.
+    bool rendersMedia() const override {
+        return !settings_.reuseRadiosity && !settings_.excludeCaustics;
+    }
     PassStats parameters() const override;
 
   protected:

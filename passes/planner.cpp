@@ -1,5 +1,6 @@
 #include "passes/planner.h"
 
+#include "core/errors.h"
 #include "core/light_paths.h"
 #include "passes/products.h"
 
@@ -113,10 +114,16 @@ std::optional<PipelineProblem> checkPipeline(Pipeline& pipeline) {
 
 PipelinePlan planForScene(Pipeline& pipeline, const SceneContents& contents) {
     PipelinePlan plan;
-    plan.universe = contents.diffuse && contents.specular ? "L(D|S)*E"
-                    : contents.diffuse                    ? "LD*E"
-                    : contents.specular                   ? "LS*E"
-                                                          : "LE";
+    std::vector<std::string> vertices;
+    if (contents.diffuse)
+        vertices.push_back("D");
+    if (contents.specular)
+        vertices.push_back("S");
+    if (contents.mediumScatters)
+        vertices.push_back("V");
+    plan.universe = vertices.empty()       ? "LE"
+                    : vertices.size() == 1 ? "L" + vertices.front() + "*E"
+                                           : "L(" + joined(vertices, "|") + ")*E";
 
     if (contents.areaLights + contents.punctualLights == 0 && !contents.environment) {
         plan.warnings.push_back(
@@ -133,6 +140,14 @@ PipelinePlan planForScene(Pipeline& pipeline, const SceneContents& contents) {
         skipReasons[i] = passes[i]->skipReason(contents);
         if (!skipReasons[i].empty())
             pipeline.skip(i);
+    }
+    for (size_t i = 0; i < passes.size(); ++i) {
+        if (contents.medium && skipReasons[i].empty() && !passes[i]->rendersMedia()) {
+            throw UsageError(pipeline.name() + ": " + passName(i, *passes[i]) +
+                             " does not render participating media, and the scene has one: only "
+                             "the path tracer does so far (--pipeline reference, or a `path` pass "
+                             "without `radiosity = true` and without a `caustics` pass)");
+        }
     }
     // The passes that run are fitted to each other again (a path pass counts the caustics
     // itself once the caustic pass is skipped); a preset or a checked script stays consistent.

@@ -9,38 +9,40 @@ namespace penumbra {
 
 namespace {
 
-// The arriving radiance of light sample `ls` at `hit` over its density lightPdf (the light's
-// probability of being drawn times ls->pdf), with a shadow ray, weighted by the power heuristic
-// against bsdf.pdf() (Veach 1997, Eq. 9.13; 1 for a delta light); nothing when no light arrives
+// The arriving radiance of light sample `ls` at the point of `ctx` over its density lightPdf (the
+// light's probability of being drawn times ls->pdf), with a shadow ray, weighted by the power
+// heuristic against scatterPdf(wi), the density of the tracer's own sample there (a BSDF's or a
+// phase function's: Veach 1997, Eq. 9.13; 1 for a delta light); nothing when no light arrives
 // or `reflects(wi)` says the caller's lobes send none of it back, checked before the shadow ray
 // is cast.
-template <typename Reflects>
+template <typename ScatterPdf, typename Reflects>
 std::optional<Color> incidentLight(const Scene& scene, const std::optional<LightLiSample>& ls,
-                                   float lightPdf, bool delta, const SurfaceHit& hit,
-                                   const Bsdf& bsdf, const Vec3& wo, PathCounters& counters,
+                                   float lightPdf, bool delta, const LightSampleContext& ctx,
+                                   const ScatterPdf& scatterPdf, PathCounters& counters,
                                    const Reflects& reflects) {
     if (!ls || !(ls->pdf > 0.0f) || !(lightPdf > 0.0f) || !reflects(ls->wi))
         return std::nullopt;
     ++counters.rays;
     const Color Tr =
-        scene.transmittance(hit.p, hit.pError, hit.ng, ls->pLight, ls->pLightError, ls->nLight);
+        scene.transmittance(ctx.p, ctx.pError, ctx.n, ls->pLight, ls->pLightError, ls->nLight);
     if (maxComponent(Tr) <= 0.0f)
         return std::nullopt;
-    const float weight = delta ? 1.0f : powerHeuristic(lightPdf, bsdf.pdf(wo, ls->wi));
+    const float weight = delta ? 1.0f : powerHeuristic(lightPdf, scatterPdf(ls->wi));
     return ls->L * Tr * (weight / lightPdf);
 }
 
-// One light sample for next-event estimation at `hit`: a light chosen by power from `lights`, a
-// point on it and incidentLight(). Returns the light and what incidentLight() returns.
+// One light sample for next-event estimation at the point of `ctx`: a light chosen by power
+// from `lights`, a point on it and incidentLight(). Returns the light and what incidentLight()
+// returns.
 struct IncidentLight {
     uint32_t light;
     Color L;
 };
-template <typename Reflects>
+template <typename ScatterPdf, typename Reflects>
 std::optional<IncidentLight> sampleIncidentLight(const Scene& scene,
                                                  const PowerLightSampler& lights,
-                                                 const SurfaceHit& hit, const Bsdf& bsdf,
-                                                 const Vec3& wo, Sampler& sampler,
+                                                 const LightSampleContext& ctx,
+                                                 const ScatterPdf& scatterPdf, Sampler& sampler,
                                                  PathCounters& counters, const Reflects& reflects) {
     const float uLight = sampler.get1D();
     const Vec2 uPoint = sampler.get2D();
@@ -48,15 +50,42 @@ std::optional<IncidentLight> sampleIncidentLight(const Scene& scene,
     if (!choice)
         return std::nullopt;
     const Light& light = *scene.lights()[choice->light];
-    const std::optional<LightLiSample> ls =
-        light.sampleLi(LightSampleContext{hit.p, hit.pError, hit.ng}, uPoint);
+    const std::optional<LightLiSample> ls = light.sampleLi(ctx, uPoint);
     const std::optional<Color> L =
-        incidentLight(scene, ls, choice->pmf * (ls ? ls->pdf : 0.0f), light.isDelta(), hit, bsdf,
-                      wo, counters, reflects);
+        incidentLight(scene, ls, choice->pmf * (ls ? ls->pdf : 0.0f), light.isDelta(), ctx,
+                      scatterPdf, counters, reflects);
     if (!L)
         return std::nullopt;
     return IncidentLight{choice->light, *L};
 }
+
+// Where a surface's next-event estimate is taken, and its BSDF's density there.
+LightSampleContext surfaceContext(const SurfaceHit& hit) {
+    return LightSampleContext{hit.p, hit.pError, hit.ng};
+}
+struct BsdfPdf {
+    const Bsdf& bsdf;
+    const Vec3& wo;
+    float operator()(const Vec3& wi) const { return bsdf.pdf(wo, wi); }
+};
+
+// The same for a scattering event in the medium: a point off any surface (zero normal), and the
+// phase function, which is its own density and what incidentLight()'s caller multiplies by.
+LightSampleContext mediumContext(const MediumPoint& point) {
+    return LightSampleContext{point.p, Vec3(0.0f), Vec3(0.0f)};
+}
+struct PhasePdf {
+    const MediumPoint& point;
+    float operator()(const Vec3& wi) const { return point.phase.p(point.wo, wi); }
+};
+struct PhaseScatters {
+    const MediumPoint& point;
+    Color& f;
+    bool operator()(const Vec3& wi) const {
+        f = Color(point.phase.p(point.wo, wi));
+        return f[0] > 0.0f;
+    }
+};
 
 // The predicate incidentLight() asks, for the lobes `lobes`: sets f to their BSDF times the cosine
 // towards wi.
@@ -77,13 +106,30 @@ float selectionPmf(const Scene& scene, uint32_t light, const LightSelection* sel
     return selection ? selection->pmf(light) : scene.lightSampler().pmf(light);
 }
 
+// One direction from one part of the environment (its map or its sun) and incidentLight(),
+// weighted against scatterPdf with that part's density; nothing without an environment.
+template <typename ScatterPdf, typename Reflects>
+std::optional<Color> incidentEnvironmentPart(const Scene& scene, EnvironmentPart part,
+                                             const LightSampleContext& ctx,
+                                             const ScatterPdf& scatterPdf, Sampler& sampler,
+                                             PathCounters& counters, const Reflects& reflects) {
+    const Vec2 u = sampler.get2D();
+    const EnvironmentLight* environment = scene.environment();
+    if (!environment)
+        return std::nullopt;
+    const std::optional<LightLiSample> ls = environment->sampleLi(ctx, u, part);
+    return incidentLight(scene, ls, ls ? ls->pdf : 0.0f, false, ctx, scatterPdf, counters,
+                         reflects);
+}
+
 }  // namespace
 
 Color sampleDirectLight(const Scene& scene, const SurfaceHit& hit, const Bsdf& bsdf, const Vec3& wo,
                         Sampler& sampler, PathCounters& counters, ReflectingLobes lobes) {
     Color f(0.0f);
-    const auto incident = sampleIncidentLight(scene, scene.lightSampler(), hit, bsdf, wo, sampler,
-                                              counters, LobesReflect{bsdf, wo, f, lobes});
+    const auto incident =
+        sampleIncidentLight(scene, scene.lightSampler(), surfaceContext(hit), BsdfPdf{bsdf, wo},
+                            sampler, counters, LobesReflect{bsdf, wo, f, lobes});
     return incident ? f * incident->L : Color(0.0f);
 }
 
@@ -91,8 +137,9 @@ Color sampleDirectLightFromSet(const Scene& scene, const LightSelection& selecti
                                const SurfaceHit& hit, const Bsdf& bsdf, const Vec3& wo,
                                Sampler& sampler, PathCounters& counters, uint32_t& light) {
     Color f(0.0f);
-    const auto incident = sampleIncidentLight(scene, selection.set(set), hit, bsdf, wo, sampler,
-                                              counters, LobesReflect{bsdf, wo, f});
+    const auto incident =
+        sampleIncidentLight(scene, selection.set(set), surfaceContext(hit), BsdfPdf{bsdf, wo},
+                            sampler, counters, LobesReflect{bsdf, wo, f});
     if (!incident)
         return Color(0.0f);
     light = incident->light;
@@ -102,15 +149,41 @@ Color sampleDirectLightFromSet(const Scene& scene, const LightSelection& selecti
 Color sampleEnvironmentPart(const Scene& scene, EnvironmentPart part, const SurfaceHit& hit,
                             const Bsdf& bsdf, const Vec3& wo, Sampler& sampler,
                             PathCounters& counters) {
-    const Vec2 u = sampler.get2D();
-    const EnvironmentLight* environment = scene.environment();
-    if (!environment)
-        return Color(0.0f);
-    const std::optional<LightLiSample> ls =
-        environment->sampleLi(LightSampleContext{hit.p, hit.pError, hit.ng}, u, part);
     Color f(0.0f);
-    const std::optional<Color> L = incidentLight(scene, ls, ls ? ls->pdf : 0.0f, false, hit, bsdf,
-                                                 wo, counters, LobesReflect{bsdf, wo, f});
+    const std::optional<Color> L =
+        incidentEnvironmentPart(scene, part, surfaceContext(hit), BsdfPdf{bsdf, wo}, sampler,
+                                counters, LobesReflect{bsdf, wo, f});
+    return L ? f * *L : Color(0.0f);
+}
+
+Color sampleDirectLight(const Scene& scene, const MediumPoint& point, Sampler& sampler,
+                        PathCounters& counters) {
+    Color f(0.0f);
+    const auto incident =
+        sampleIncidentLight(scene, scene.lightSampler(), mediumContext(point), PhasePdf{point},
+                            sampler, counters, PhaseScatters{point, f});
+    return incident ? f * incident->L : Color(0.0f);
+}
+
+Color sampleDirectLightFromSet(const Scene& scene, const LightSelection& selection, size_t set,
+                               const MediumPoint& point, Sampler& sampler, PathCounters& counters,
+                               uint32_t& light) {
+    Color f(0.0f);
+    const auto incident =
+        sampleIncidentLight(scene, selection.set(set), mediumContext(point), PhasePdf{point},
+                            sampler, counters, PhaseScatters{point, f});
+    if (!incident)
+        return Color(0.0f);
+    light = incident->light;
+    return f * incident->L;
+}
+
+Color sampleEnvironmentPart(const Scene& scene, EnvironmentPart part, const MediumPoint& point,
+                            Sampler& sampler, PathCounters& counters) {
+    Color f(0.0f);
+    const std::optional<Color> L =
+        incidentEnvironmentPart(scene, part, mediumContext(point), PhasePdf{point}, sampler,
+                                counters, PhaseScatters{point, f});
     return L ? f * *L : Color(0.0f);
 }
 
@@ -130,8 +203,8 @@ DirectLightShares sampleDirectLightShares(const Scene& scene, const SurfaceHit& 
         fGlossy = bsdf.fGlossy(wo, wi) * cosine;
         return maxComponent(f) > 0.0f;
     };
-    const auto incident = sampleIncidentLight(scene, scene.lightSampler(), hit, bsdf, wo, sampler,
-                                              counters, reflects);
+    const auto incident = sampleIncidentLight(scene, scene.lightSampler(), surfaceContext(hit),
+                                              BsdfPdf{bsdf, wo}, sampler, counters, reflects);
     if (!incident)
         return {};
     return {f * incident->L, fGlossy * incident->L};

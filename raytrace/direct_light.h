@@ -3,6 +3,7 @@
 #pragma once
 
 #include "core/bsdf.h"
+#include "core/phase_function.h"
 #include "core/scene.h"
 
 namespace penumbra {
@@ -37,6 +38,27 @@ Color sampleEnvironmentPart(const Scene& scene, EnvironmentPart part, const Surf
                             PathCounters& counters);
 float environmentPartMisWeight(const Scene& scene, EnvironmentPart part, const Vec3& from,
                                const Vec3& wi, float bsdfPdf);
+
+// A scattering event in the scene's participating medium (core/medium.h): the point, the
+// medium's phase function and the direction the light leaves towards.
+struct MediumPoint {
+    Vec3 p;
+    const HenyeyGreenstein& phase;
+    Vec3 wo;
+};
+
+// The three estimates above at a scattering event in the medium: the light scattered towards wo
+// by the phase function (which is also its own sampling density, against which the light sample
+// is weighted), the shadow ray attenuated by the medium (Scene::transmittance). The in-scattered
+// radiance still to be multiplied by sigma_s, which the free flight's weight holds
+// (HomogeneousMedium::sampleFlight).
+Color sampleDirectLight(const Scene& scene, const MediumPoint& point, Sampler& sampler,
+                        PathCounters& counters);
+Color sampleDirectLightFromSet(const Scene& scene, const LightSelection& selection, size_t set,
+                               const MediumPoint& point, Sampler& sampler, PathCounters& counters,
+                               uint32_t& light);
+Color sampleEnvironmentPart(const Scene& scene, EnvironmentPart part, const MediumPoint& point,
+                            Sampler& sampler, PathCounters& counters);
 
 // The reflected radiance of sampleDirectLight by all the non-delta lobes and by the glossy ones
 // alone, from one light sample and one shadow ray: for a tracer that takes the Lambertian layer's

@@ -2,6 +2,7 @@
 
 #include "core/sampler.h"
 #include "core/sampling.h"
+#include "core/surface_crossing.h"
 #include "raytrace/direct_light.h"
 #include "raytrace/tracing_steps.h"
 
@@ -42,6 +43,10 @@ std::string pathTracerLightPaths(const PathTracerSettings& settings) {
     // solution that took the caustic photons holds L S+ D+ as well: L S* D+ arrives.
     // A correction (correctionProbability > 0) traces, in expectation, everything the solution
     // held: the paths are the path tracer's again.
+    // Only the path tracer that counts every path meets a medium (V vertices): the planner
+    // refuses media for the others.
+    if (!settings.reuseRadiosity && !settings.excludeCaustics)
+        return "L(D|S|V)*E";
     if (!settings.reuseRadiosity || settings.correctionProbability > 0.0f)
         return settings.excludeCaustics ? "L S* E | L D S* E | L (D|S)* D S* D S* E" : "L(D|S)*E";
     // A solution that holds the light through specular surfaces as well: every path with two
@@ -65,6 +70,8 @@ PathTracer::PathTracer(const Scene& scene, const PathTracerSettings& settings,
       groups_(groups) {
     if (groups_ && settings_.reuseRadiosity)
         throw std::logic_error("PathTracer: light groups need a tracer without reuse");
+    if (scene_.medium() && (settings_.reuseRadiosity || settings_.excludeCaustics))
+        throw std::logic_error("PathTracer: a medium needs a tracer that counts every path");
 }
 
 namespace {
@@ -199,9 +206,80 @@ PathRadiance PathTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHit,
         return Color(0.0f);
     };
 
+    // Next-event estimation at a vertex: `where` is a surface's hit, BSDF and wo, or a scattering
+    // event in the medium (MediumPoint). One light sample; with light groups, one light from each
+    // group and a direction from each part of the environment, each filed under its group.
+    const auto addDirectLight = [&](PathComponent component, const auto&... where) {
+        if (!groups_) {
+            add(component, w.unheld, w.correction(),
+                sampleDirectLight(scene_, where..., sampler, counters));
+            return;
+        }
+        for (size_t set = 0; set < selection->sets(); ++set) {
+            uint32_t light = 0;
+            const Color direct = sampleDirectLightFromSet(scene_, *selection, set, where...,
+                                                          sampler, counters, light);
+            if (maxComponent(direct) > 0.0f)
+                groups_->file(light, add(component, w.unheld, w.correction(), direct), L.groups);
+        }
+        for (const EnvironmentPart part : kEnvironmentParts) {
+            const int group = groups_->environmentGroup(part);
+            if (group >= 0) {
+                L.groups[size_t(group)] +=
+                    add(component, w.unheld, w.correction(),
+                        sampleEnvironmentPart(scene_, part, where..., sampler, counters));
+            }
+        }
+    };
+
+    // Russian roulette after a scattering event, on the throughput without eta scaling: false
+    // when it ends the path, else the survivors are reweighted.
+    const auto survivesRoulette = [&] {
+        const float rr = rouletteTerminationProbability(
+            depth, (w.all + w.fresh + w.traced + w.chain) * etaScale);
+        if (rr > 0.0f) {
+            if (sampler.get1D() < rr)
+                return false;
+            w /= 1.0f - rr;
+        }
+        return true;
+    };
+
+    const HomogeneousMedium* medium = scene_.medium();
     while (true) {
         ++counters.rays;
         const std::optional<SurfaceHit> hit = scene_.intersect(ray);
+        // The participating medium along the segment to the hit (or out of the scene), unless
+        // the segment runs inside a solid: a free flight, which may end in a scattering event (a
+        // V vertex) before the surface. Its weight holds the transmittance and, at an event,
+        // sigma_s (core/medium.h).
+        if (medium && !(hit && insideSolid(scene_, *hit, ray.d))) {
+            const float uChannel = sampler.get1D();
+            const float uDistance = sampler.get1D();
+            const HomogeneousMedium::Flight flight =
+                medium->sampleFlight(ray, hit ? hit->t : INFINITY, uChannel, uDistance);
+            w *= flight.weight;
+            if (flight.scattered) {
+                if (settings_.maxDepth >= 0 && depth >= settings_.maxDepth)
+                    break;
+                // The medium's in-scattered light: next-event estimation with the phase
+                // function, then a direction drawn from it, whose weight p / pdf is 1.
+                const MediumPoint point{ray.o + flight.t * ray.d, medium->phase(), -ray.d};
+                addDirectLight(pathComponent(depth + 1, firstVertexSpecular), point);
+                const Vec3 wi = medium->phase().sample(point.wo, sampler.get2D());
+                ++diffuseVertices;
+                specularAfterDiffuse = false;
+                lastDelta = false;
+                lastBsdfPdf = medium->phase().p(point.wo, wi);
+                lastCtx = LightSampleContext{point.p, Vec3(0.0f), Vec3(0.0f)};
+                pathLength += flight.t;
+                ray = Ray{point.p, wi};
+                ++depth;
+                if (!survivesRoulette())
+                    break;
+                continue;
+            }
+        }
         if (!hit) {
             if (scene_.environment() && groups_) {
                 // The map and the sun apart, each weighed against its own light sample.
@@ -286,29 +364,8 @@ PathRadiance PathTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHit,
         if (unheld && bsdf.hasNonDeltaLobe()) {
             const bool glossy = (bsdf.lobes() & kLobeGlossy) != 0;
             const bool correctionLive = maxComponent(w.correction() + corrected) > 0.0f;
-            if (!reuseHere && groups_) {
-                // One light from each group, and a direction from each part of the
-                // environment, each filed under its group.
-                for (size_t set = 0; set < selection->sets(); ++set) {
-                    uint32_t light = 0;
-                    const Color direct = sampleDirectLightFromSet(
-                        scene_, *selection, set, *hit, bsdf, wo, sampler, counters, light);
-                    if (maxComponent(direct) > 0.0f) {
-                        groups_->file(light, add(reflectedHere, w.unheld, w.correction(), direct),
-                                      L.groups);
-                    }
-                }
-                for (const EnvironmentPart part : kEnvironmentParts) {
-                    const int group = groups_->environmentGroup(part);
-                    if (group >= 0) {
-                        L.groups[size_t(group)] += add(
-                            reflectedHere, w.unheld, w.correction(),
-                            sampleEnvironmentPart(scene_, part, *hit, bsdf, wo, sampler, counters));
-                    }
-                }
-            } else if (!reuseHere) {
-                add(reflectedHere, w.unheld, w.correction(),
-                    sampleDirectLight(scene_, *hit, bsdf, wo, sampler, counters));
+            if (!reuseHere) {
+                addDirectLight(reflectedHere, *hit, bsdf, wo);
             } else if (correctionLive) {
                 // One light sample for all parts: the base's glossy share, the traced
                 // correction's whole, the new correction's Lambertian share.
@@ -383,15 +440,8 @@ PathRadiance PathTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHit,
         lastCtx = LightSampleContext{hit->p, hit->pError, hit->ng};
         ray = Scene::spawnRay(*hit, bs->wi);
         ++depth;
-
-        // Russian roulette, on the throughput without eta scaling.
-        const float rr = rouletteTerminationProbability(
-            depth, (w.all + w.fresh + w.traced + w.chain) * etaScale);
-        if (rr > 0.0f) {
-            if (sampler.get1D() < rr)
-                break;
-            w /= 1.0f - rr;
-        }
+        if (!survivesRoulette())
+            break;
     }
     return L;
 }

@@ -2,8 +2,14 @@
 // the camera, against which every other pass is measured. Unbiased: no clamping, no depth cut
 // unless the user sets one, Russian roulette that reweights what survives.
 //
-// Light transport: all paths L (D|S)* E, i.e. emission seen directly, direct light, indirect
-// diffuse and glossy light, specular reflection and refraction, and caustics.
+// Light transport: all paths L (D|S|V)* E, i.e. emission seen directly, direct light, indirect
+// diffuse and glossy light, specular reflection and refraction, caustics, and the light a
+// participating medium attenuates and scatters (core/medium.h): volumetric path tracing, each
+// segment's free flight drawn from the medium's transmittance, ending either at the surface or
+// at a scattering event (a V vertex), where next-event estimation and the next direction use
+// the phase function (Pharr, Jakob and Humphreys, "Physically Based Rendering", 4th ed.,
+// chapter 14; Novak et al. 2018, "Monte Carlo methods for volumetric light transport
+// simulation", section 4). Shadow rays take the medium's transmittance (Scene::transmittance).
 //
 // The hybrid pipeline (the seed's three-pass method) narrows it in two ways, each a setting:
 // - reuse of a radiosity solution: a path that reaches a second diffuse vertex (after the first

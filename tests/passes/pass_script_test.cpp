@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -156,7 +157,7 @@ TEST_F(PassScriptTest, UnknownTopLevelKey) {
               "height, spp, seed, output, environment, environment_scale, "
               "environment_rotation, environment_illuminance, sky, sky_illuminance, "
               "ground_reflectance, site, time, north, "
-              "sun_direct_normal, portals, pass, luminaire");
+              "sun_direct_normal, portals, pass, luminaire, medium");
     // A depth belongs to the path pass, not to the script.
     EXPECT_EQ(firstLine(error(kScene + "max_depth = 3\n" + kPath)).substr(0, 27),
               "2:1: max_depth: unknown key");
@@ -213,6 +214,46 @@ TEST_F(PassScriptTest, OutOfRange) {
               "2:33: portals: portal \"1,2,3\": expect");
 }
 
+// The [[medium]] table: each coefficient a number for all channels or one per channel, the
+// phase function's g, the box; every bad value refused at its place.
+TEST_F(PassScriptTest, MediumTable) {
+    const PassScript script = loadPassScript(write(kScene + kPath +
+                                                   "[[medium]]\n"
+                                                   "sigma_a = 0.01\n"
+                                                   "sigma_s = [0.1, 0.2, 0.3]\n"
+                                                   "g = 0.6\n"
+                                                   "box = [-1, 0, -1, 1, 3, 2]\n"));
+    ASSERT_TRUE(script.medium.has_value());
+    EXPECT_EQ(script.medium->sigmaA, (std::array<float, 3>{0.01f, 0.01f, 0.01f}));
+    EXPECT_EQ(script.medium->sigmaS, (std::array<float, 3>{0.1f, 0.2f, 0.3f}));
+    EXPECT_EQ(script.medium->g, 0.6f);
+    EXPECT_EQ(script.medium->box, (std::array<double, 6>{-1, 0, -1, 1, 3, 2}));
+    // Only sigma_s: no absorption, isotropic, the scene's bounds.
+    const PassScript fog = loadPassScript(write(kScene + kPath + "[[medium]]\nsigma_s = 0.05\n"));
+    ASSERT_TRUE(fog.medium.has_value());
+    EXPECT_EQ(fog.medium->sigmaA, (std::array<float, 3>{0.0f, 0.0f, 0.0f}));
+    EXPECT_EQ(fog.medium->g, 0.0f);
+    EXPECT_FALSE(fog.medium->box.has_value());
+    EXPECT_FALSE(loadPassScript(write(kScene + kPath)).medium.has_value());
+
+    const std::string medium = kScene + kPath + "[[medium]]\n";
+    EXPECT_EQ(firstLine(error(medium + "g = 0.5\n")),
+              "4:1: medium[0].sigma_s: missing: a medium needs sigma_a or sigma_s (per metre)");
+    EXPECT_EQ(firstLine(error(medium + "sigma_s = 1\ng = 1\n")),
+              "6:5: medium[0].g: expected a number in (-1, 1), got 1");
+    EXPECT_EQ(firstLine(error(medium + "sigma_s = -0.1\n")),
+              "5:11: medium[0].sigma_s: expected a number >= 0 (per metre) or an array of three");
+    EXPECT_EQ(firstLine(error(medium + "sigma_a = [0.1, 0.2]\n")),
+              "5:11: medium[0].sigma_a: expected an array of 3 numbers, got [0.1, 0.2]");
+    EXPECT_EQ(firstLine(error(medium + "sigma_s = 1\nbox = [0, 0, 0, 1, -1, 1]\n")),
+              "6:7: medium[0].box: expected [x0, y0, z0, x1, y1, z1] with x0 < x1, y0 < y1 and "
+              "z0 < z1");
+    EXPECT_EQ(firstLine(error(medium + "sigma_s = 1\ndensity = 2\n")).substr(0, 40),
+              "6:1: medium[0].density: unknown key; val");
+    EXPECT_EQ(firstLine(error(medium + "sigma_s = 1\n[[medium]]\nsigma_s = 2\n")),
+              "6:1: medium[1]: a second [[medium]]: penumbra renders one medium for now");
+}
+
 TEST_F(PassScriptTest, PassTypes) {
     EXPECT_EQ(firstLine(error(kScene + "[[pass]]\ntype = \"photon\"\n")),
               "3:8: pass[0].type: unknown pass type 'photon'; valid: radiosity, path, "
@@ -226,7 +267,7 @@ TEST_F(PassScriptTest, PassTypes) {
 TEST_F(PassScriptTest, PipelinesThatCountAPathTwiceOrLackAProduct) {
     EXPECT_EQ(firstLine(error(kScene + kPath + "\n" + kPath)),
               "5:1: pass[1]: pass 2 (path) and pass 1 (path) both count the light paths L E, L D "
-              "E, L S E, ... (path: L(D|S)*E; path: L(D|S)*E): each path must be counted once");
+              "E, L S E, ... (path: L(D|S|V)*E; path: L(D|S|V)*E): each path must be counted once");
     // The radiosity view counts L D* E, which a path pass that does not reuse it counts too.
     EXPECT_EQ(firstLine(error(kScene + "[[pass]]\ntype = \"radiosity\"\n\n" + kPath)).substr(0, 71),
               "5:1: pass[1]: pass 2 (path) and pass 1 (radiosity) both count the light");

@@ -3,6 +3,7 @@
 // missing products are refused, the scene analysis skips what a scene does not need and names
 // the paths nobody counts, and the composite is the exact sum of the contributions.
 #include "passes/planner.h"
+#include "core/errors.h"
 #include "core/light_paths.h"
 #include "passes/caustic_pass.h"
 #include "passes/composite.h"
@@ -40,7 +41,9 @@ PathTracerSettings tracer(bool reuse, bool exclude, bool corrected = false) {
 // The declarations are hand-written regular expressions; here they are checked against the sets
 // they stand for, built from the definitions by set algebra.
 TEST(Planner, PathTracerDeclarationsAreTheSetsTheyStandFor) {
-    EXPECT_TRUE(sameSet(PathSet::parse(pathTracerLightPaths(tracer(false, false))), kAll));
+    // The plain path tracer also counts scattering in a participating medium (V vertices).
+    EXPECT_TRUE(sameSet(PathSet::parse(pathTracerLightPaths(tracer(false, false))),
+                        PathSet::parse("L(D|S|V)*E")));
     EXPECT_TRUE(
         sameSet(PathSet::parse(pathTracerLightPaths(tracer(false, true))), kAll - kCaustics));
     // Radiosity reuse: everything except the paths whose light part, up to the eye's second
@@ -293,6 +296,39 @@ TEST(Planner, SkipsWhatTheSceneDoesNotNeed) {
     planForScene(mirrorsOnly, SceneContents{false, true, 1, 0});
     EXPECT_TRUE(mirrorsOnly.skipped(0));
     EXPECT_FALSE(mirrorsOnly.skipped(2));
+}
+
+// A participating medium: its scattering events join the paths the scene can hold, which the
+// plain path tracer counts; a pipeline with a pass that does not render media is refused at the
+// first such pass, naming the one that does.
+TEST(Planner, OnlyThePlainPathTracerRendersAMedium) {
+    SceneContents foggy{true, true, 1, 0};
+    foggy.medium = true;
+    foggy.mediumScatters = true;
+    std::vector<std::unique_ptr<Pass>> passes;
+    passes.push_back(std::make_unique<PathPass>(tracer(false, false), PathPass::Caustics::Auto));
+    Pipeline reference("reference", std::move(passes));
+    ASSERT_FALSE(checkPipeline(reference).has_value());
+    const PipelinePlan plan = planForScene(reference, foggy);
+    EXPECT_EQ(plan.universe, "L(D|S|V)*E");
+    EXPECT_TRUE(plan.warnings.empty()) << plan.warnings.front();
+    // A medium that only absorbs has no V vertex.
+    SceneContents smoky = foggy;
+    smoky.mediumScatters = false;
+    EXPECT_EQ(planForScene(reference, smoky).universe, "L(D|S)*E");
+
+    Pipeline hybrid = hybridWithCaustics(PathPass::Caustics::Auto);
+    ASSERT_FALSE(checkPipeline(hybrid).has_value());
+    try {
+        planForScene(hybrid, foggy);
+        ADD_FAILURE() << "a medium was not refused";
+    } catch (const UsageError& e) {
+        const std::string message = e.what();
+        EXPECT_NE(message.find("hybrid: pass 1 (radiosity) does not render participating media"),
+                  std::string::npos)
+            << message;
+        EXPECT_NE(message.find("--pipeline reference"), std::string::npos) << message;
+    }
 }
 
 TEST(Planner, WarnsOfAPipelineThatLeavesPathsOut) {
