@@ -34,7 +34,10 @@ Steps (linear EXR images, in --workdir):
      counts as error once Cycles' noise falls below it). A table of every run, then one of the
      medians over the repeats.
 
-An environment-lit scene (--environment: the scene's own map, or a file given to both renderers)
+A pass script as --scene (`.toml`) is rendered by penumbra as it stands (its passes are the one
+pipeline, named "script"; --pipelines is not used), and by Cycles as its glTF scene, with the
+script's [[medium]] table, if it has one, added by bench/cycles_medium.py as a volume box
+(docs/media.md). An environment-lit scene (--environment: the scene's own map, or a file given to both renderers)
 is rendered in Cycles by bench/cycles_environment.py, which runs the same harness with the map as
 Cycles' world, looked up in penumbra's orientation; with --cycles-portals, Cycles also gets the
 openings penumbra finds as portals (Cycles samples the world through portal lights it is given).
@@ -51,6 +54,7 @@ import re
 import statistics
 import subprocess
 import sys
+import tomllib
 
 import numpy as np
 import OpenImageIO as oiio
@@ -102,10 +106,13 @@ def run(cmd):
 
 
 def run_penumbra(a, out, pipeline, seed, spp=None, time_limit=None):
-    """Renders with penumbra; spp and seconds are those the EXR records."""
-    cmd = [a.penumbra, "render", a.scene, "-o", out, "--pipeline", pipeline,
+    """Renders with penumbra; spp and seconds are those the EXR records. A pass script is its
+    own pipeline."""
+    cmd = [a.penumbra, "render", a.scene, "-o", out,
            "--width", str(a.width), "--height", str(a.height), "--seed", str(seed),
            "--threads", str(a.threads)] + environment_args(a)
+    if not a.script:
+        cmd += ["--pipeline", pipeline]
     if time_limit is not None:
         cmd += ["--time-limit", str(time_limit), "--spp", "1000000"]
     else:
@@ -115,10 +122,27 @@ def run_penumbra(a, out, pipeline, seed, spp=None, time_limit=None):
     return {"spp": int(metadata["penumbra:spp"]), "seconds": float(metadata["penumbra:seconds"])}
 
 
+def medium_args(medium):
+    """cycles_medium.py's options for a pass script's [[medium]] table (docs/pass-scripts.md)."""
+    def channels(key):
+        value = medium.get(key, 0.0)
+        return ",".join(str(float(x)) for x in (value if isinstance(value, list) else [value] * 3))
+    args = ["--sigma-a", channels("sigma_a"), "--sigma-s", channels("sigma_s"),
+            "--g", str(float(medium.get("g", 0.0)))]
+    if "box" in medium:
+        args += ["--box", ",".join(str(float(x)) for x in medium["box"])]
+    return args
+
+
 def run_cycles(a, out, spp, seed):
     """Renders with Cycles through the peer harness; with --environment, through
-    cycles_environment.py, which runs the harness with the map as the world."""
-    if a.environment is None:
+    cycles_environment.py, which runs the harness with the map as the world; with a pass
+    script's medium, through cycles_medium.py, which adds it as a volume box."""
+    here = os.path.dirname(os.path.abspath(__file__))
+    if a.medium is not None:
+        script = [os.path.join(here, "cycles_medium.py"), "--", "--peers", a.peers]
+        script += medium_args(a.medium)
+    elif a.environment is None:
         script = [os.path.join(a.peers, "cycles_render.py"), "--"]
     else:
         script = [os.path.join(os.path.dirname(os.path.abspath(__file__)),
@@ -127,7 +151,7 @@ def run_cycles(a, out, spp, seed):
         for portal in a.portals:
             script += ["--portal", portal]
     cmd = [a.blender, "-b", "--factory-startup", "-P"] + script + [
-           "--scene", a.scene, "--out", out,
+           "--scene", a.gltf, "--out", out,
            "--spp", str(spp), "--width", str(a.width), "--height", str(a.height),
            "--threads", str(a.threads), "--seed", str(seed)]
     log = run(cmd).stdout
@@ -262,6 +286,16 @@ def main():
     a = ap.parse_args()
     a.width = a.height = a.size
     a.pipelines = a.pipelines.split(",")
+    a.script = a.scene.endswith(".toml")
+    a.gltf, a.medium = a.scene, None
+    if a.script:
+        if a.environment is not None:
+            raise SystemExit("--environment with a pass script: give it in the script")
+        with open(a.scene, "rb") as f:
+            script = tomllib.load(f)
+        a.gltf = os.path.join(os.path.dirname(os.path.abspath(a.scene)), script["scene"])
+        a.medium = script.get("medium", [None])[0]
+        a.pipelines = ["script"]
     os.makedirs(a.workdir, exist_ok=True)
     w = lambda name: os.path.join(a.workdir, name)  # noqa: E731
 

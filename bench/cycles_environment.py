@@ -38,6 +38,9 @@ import sys
 import bpy
 from mathutils import Matrix, Vector
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from blender_harness import run_harness, to_blender  # noqa: E402
+
 
 def parse_own_args():
     """This script's options, and the rest of the arguments after "--" for cycles_render.py."""
@@ -123,11 +126,6 @@ def environment_world(path, scale, to_world):
     return world
 
 
-def to_blender(p):
-    """A glTF point in Blender's frame."""
-    return (p[0], -p[2], p[1])
-
-
 def add_portal(scene, spec, index):
     """A Cycles portal light over penumbra's portal `spec`, facing the camera."""
     v = [float(x) for x in spec.split(",")]
@@ -176,11 +174,7 @@ def main():
             add_portal(scene, spec, index)
 
     bpy.app.handlers.render_init.append(use_environment)
-    harness = os.path.join(own.peers, "cycles_render.py")
-    sys.argv = [sys.argv[0], harness, "--"] + rest
-    with open(harness) as f:
-        code = compile(f.read(), harness, "exec")
-    exec(code, {"__name__": "__main__", "__file__": harness})
+    run_harness(own.peers, rest)
 
 
 main()

@@ -33,6 +33,14 @@ Color HomogeneousMedium::transmittance(const Ray& ray, float tMax) const {
     return s ? glm::exp(-sigmaT_ * (s->t1 - s->t0)) : Color(1.0f);
 }
 
+float HomogeneousMedium::flightPdf(float distance) const {
+    if (!scatters())
+        return 0.0f;
+    // The density of the three channels' strategies together (balance heuristic).
+    const Color T = glm::exp(-sigmaT_ * distance);
+    return (sigmaT_[0] * T[0] + sigmaT_[1] * T[1] + sigmaT_[2] * T[2]) / 3.0f;
+}
+
 HomogeneousMedium::Flight HomogeneousMedium::sampleFlight(const Ray& ray, float tMax,
                                                           float uChannel, float uDistance) const {
     const std::optional<Span> s = span(ray, tMax);
@@ -46,12 +54,9 @@ HomogeneousMedium::Flight HomogeneousMedium::sampleFlight(const Ray& ray, float 
     // Distance to the event in the chosen channel's exponential; infinite where it is clear.
     const float distance =
         sigma > 0.0f ? -std::log1p(-std::min(uDistance, 0.99999994f)) / sigma : INFINITY;
-    if (distance < length) {
-        const Color T = glm::exp(-sigmaT_ * distance);
-        // The density of the three channels' strategies together (balance heuristic).
-        const float pdf = (sigmaT_[0] * T[0] + sigmaT_[1] * T[1] + sigmaT_[2] * T[2]) / 3.0f;
-        return {true, s->t0 + distance, T * sigmaS_ / pdf};
-    }
+    if (distance < length)
+        return {true, s->t0 + distance,
+                glm::exp(-sigmaT_ * distance) * sigmaS_ / flightPdf(distance)};
     const Color T = glm::exp(-sigmaT_ * length);
     const float pass = (T[0] + T[1] + T[2]) / 3.0f;
     return {false, 0.0f, T / pass};

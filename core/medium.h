@@ -68,6 +68,9 @@ class HomogeneousMedium {
         Color weight{1.0f};
     };
     Flight sampleFlight(const Ray& ray, float tMax, float uChannel, float uDistance) const;
+    // The density (per metre) with which sampleFlight() draws a scattering event `distance` into
+    // the span: the three channels' exponentials together; 0 for a medium that does not scatter.
+    float flightPdf(float distance) const;
 
   private:
     Bounds3 box_;

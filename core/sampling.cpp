@@ -1,6 +1,7 @@
 #include "core/sampling.h"
 
 #include <algorithm>
+#include <cmath>
 #include <numeric>
 
 namespace penumbra {
@@ -31,6 +32,27 @@ Vec3 sampleUniformSphere(Vec2 u) {
     const float r = safeSqrt(1.0f - z * z);
     const float phi = 2.0f * kPi * u.y;
     return Vec3(r * std::cos(phi), r * std::sin(phi), z);
+}
+
+std::optional<Equiangular> equiangularTowards(const Vec3& o, const Vec3& d, float a, float b,
+                                              const Vec3& y) {
+    const float delta = glm::dot(y - o, d);
+    const float D = glm::length(y - (o + delta * d));
+    if (!(D > 0.0f) || !(b > a))
+        return std::nullopt;
+    const Equiangular e{delta, D, std::atan2(a - delta, D), std::atan2(b - delta, D)};
+    if (!(e.thetaB > e.thetaA))
+        return std::nullopt;
+    return e;
+}
+
+float Equiangular::sample(float u) const {
+    return delta + D * std::tan(thetaA + u * (thetaB - thetaA));
+}
+
+float Equiangular::pdf(float t) const {
+    const float x = t - delta;
+    return D / ((thetaB - thetaA) * (D * D + x * x));
 }
 
 Vec3 sampleUniformCone(Vec2 u, float cosMax) {

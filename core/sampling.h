@@ -5,6 +5,7 @@
 #include "core/math.h"
 
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -30,6 +31,22 @@ Vec3 sampleUniformCone(Vec2 u, float cosMax);
 // Uniform barycentrics (b0, b1, b2) on a triangle, area-preserving square-to-triangle map of
 // Heitz 2019, "A Low-Distortion Map Between Triangle and Square" (Eq. 3); pdf (area) = 1 / A.
 Vec3 sampleUniformTriangle(Vec2 u);
+
+// Equiangular sampling of a distance t in [a, b] along a ray (o, unit d) towards a point y
+// (Kulla and Fajardo 2012, "Importance Sampling Techniques for Path Tracing in Participating
+// Media", section 4.1): t is drawn uniformly in the angle under which y sees the ray, so its
+// density, D / ((thetaB - thetaA) (D^2 + (t - delta)^2)) per unit length, follows the inverse
+// square falloff of a point light at y. delta is where the foot of the perpendicular from y
+// lies along the ray, D the distance from y to the ray's line, thetaA and thetaB the angles of a
+// and b seen from y. Nothing when y lies on the ray's line (D = 0) or the span is empty.
+struct Equiangular {
+    float delta, D, thetaA, thetaB;
+
+    float sample(float u) const;
+    float pdf(float t) const;
+};
+std::optional<Equiangular> equiangularTowards(const Vec3& o, const Vec3& d, float a, float b,
+                                              const Vec3& y);
 
 // Power heuristic with beta = 2 for one sample of each strategy
 // (Veach and Guibas 1995, "Optimally Combining Sampling Techniques", Eq. 9).

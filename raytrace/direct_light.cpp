@@ -1,5 +1,6 @@
 #include "raytrace/direct_light.h"
 
+#include "core/medium.h"
 #include "core/sampler.h"
 #include "core/sampling.h"
 #include "core/surface_crossing.h"
@@ -37,6 +38,7 @@ std::optional<Color> incidentLight(const Scene& scene, const std::optional<Light
 struct IncidentLight {
     uint32_t light;
     Color L;
+    Vec3 pLight;  // the point sampled on the light
 };
 template <typename ScatterPdf, typename Reflects>
 std::optional<IncidentLight> sampleIncidentLight(const Scene& scene,
@@ -56,7 +58,7 @@ std::optional<IncidentLight> sampleIncidentLight(const Scene& scene,
                       scatterPdf, counters, reflects);
     if (!L)
         return std::nullopt;
-    return IncidentLight{choice->light, *L};
+    return IncidentLight{choice->light, *L, ls->pLight};
 }
 
 // Where a surface's next-event estimate is taken, and its BSDF's density there.
@@ -78,6 +80,26 @@ struct PhasePdf {
     const MediumPoint& point;
     float operator()(const Vec3& wi) const { return point.phase.p(point.wo, wi); }
 };
+// The power heuristic weight, in the distance, of a point-like light's sample at the event at
+// ray parameter t of the segment, drawn by the free flight (`byFlight`) or by equiangular
+// sampling towards the light at y.
+float distanceMisWeight(const MediumSegment& segment, float t, const Vec3& y, bool byFlight) {
+    const std::optional<Equiangular> towards =
+        equiangularTowards(segment.ray.o, segment.ray.d, segment.t0, segment.t1, y);
+    const float flight = segment.flightPdf(t);
+    const float equiangular = towards ? towards->pdf(t) : 0.0f;
+    return byFlight ? powerHeuristic(flight, equiangular) : powerHeuristic(equiangular, flight);
+}
+
+// The weight of a light sample at a free flight's event: against equiangular sampling when that
+// also draws events on its segment and the light is point-like, else 1.
+float flightEventWeight(const Scene& scene, const MediumPoint& point,
+                        const IncidentLight& incident) {
+    if (!point.segment || !pointLike(*scene.lights()[incident.light]))
+        return 1.0f;
+    return distanceMisWeight(*point.segment, point.t, incident.pLight, true);
+}
+
 struct PhaseScatters {
     const MediumPoint& point;
     Color& f;
@@ -162,7 +184,7 @@ Color sampleDirectLight(const Scene& scene, const MediumPoint& point, Sampler& s
     const auto incident =
         sampleIncidentLight(scene, scene.lightSampler(), mediumContext(point), PhasePdf{point},
                             sampler, counters, PhaseScatters{point, f});
-    return incident ? f * incident->L : Color(0.0f);
+    return incident ? f * incident->L * flightEventWeight(scene, point, *incident) : Color(0.0f);
 }
 
 Color sampleDirectLightFromSet(const Scene& scene, const LightSelection& selection, size_t set,
@@ -175,7 +197,46 @@ Color sampleDirectLightFromSet(const Scene& scene, const LightSelection& selecti
     if (!incident)
         return Color(0.0f);
     light = incident->light;
-    return f * incident->L;
+    return f * incident->L * flightEventWeight(scene, point, *incident);
+}
+
+bool pointLike(const Light& light) {
+    return light.isDelta() && light.kind() != LightKind::Directional;
+}
+
+Color sampleEquiangularInScattering(const Scene& scene, const PowerLightSampler& lights,
+                                    const MediumSegment& segment, Sampler& sampler,
+                                    PathCounters& counters, uint32_t& light) {
+    const float uLight = sampler.get1D();
+    const Vec2 uPoint = sampler.get2D();
+    const float uDistance = sampler.get1D();
+    const auto choice = lights.sample(uLight);
+    if (!choice || !pointLike(*scene.lights()[choice->light]))
+        return Color(0.0f);
+    const Light& chosen = *scene.lights()[choice->light];
+    // A point-like light's samples all come from its place, whatever the receiver.
+    const std::optional<LightLiSample> place =
+        chosen.sampleLi(LightSampleContext{segment.ray.o}, uPoint);
+    if (!place)
+        return Color(0.0f);
+    const Ray& ray = segment.ray;
+    const std::optional<Equiangular> towards =
+        equiangularTowards(ray.o, ray.d, segment.t0, segment.t1, place->pLight);
+    if (!towards)
+        return Color(0.0f);
+    const float t = std::clamp(towards->sample(uDistance), segment.t0, segment.t1);
+    const MediumPoint point{ray.o + t * ray.d, segment.medium.phase(), -ray.d};
+    const std::optional<LightLiSample> ls = chosen.sampleLi(mediumContext(point), uPoint);
+    Color f(0.0f);
+    const std::optional<Color> L =
+        incidentLight(scene, ls, choice->pmf * (ls ? ls->pdf : 0.0f), true, mediumContext(point),
+                      PhasePdf{point}, counters, PhaseScatters{point, f});
+    if (!L)
+        return Color(0.0f);
+    light = choice->light;
+    const Color T = glm::exp(-segment.medium.sigmaT() * (t - segment.t0));
+    return T * segment.medium.sigmaS() * f * *L *
+           (distanceMisWeight(segment, t, ls->pLight, false) / towards->pdf(t));
 }
 
 Color sampleEnvironmentPart(const Scene& scene, EnvironmentPart part, const MediumPoint& point,

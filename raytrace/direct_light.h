@@ -39,12 +39,27 @@ Color sampleEnvironmentPart(const Scene& scene, EnvironmentPart part, const Surf
 float environmentPartMisWeight(const Scene& scene, EnvironmentPart part, const Vec3& from,
                                const Vec3& wi, float bsdfPdf);
 
-// A scattering event in the scene's participating medium (core/medium.h): the point, the
-// medium's phase function and the direction the light leaves towards.
+// A segment of a ray through the scene's participating medium (core/medium.h): the ray's span
+// [t0, t1] in it (HomogeneousMedium::span), on which both its free flight and equiangular
+// sampling (sampleEquiangularInScattering) draw scattering events.
+struct MediumSegment {
+    Ray ray;
+    float t0, t1;
+    const HomogeneousMedium& medium;
+    // The density (per metre) of the free flight's event at ray parameter t.
+    float flightPdf(float t) const { return medium.flightPdf(t - t0); }
+};
+
+// A scattering event in the medium: the point, the medium's phase function and the direction the
+// light leaves towards. When equiangular sampling also draws events on the segment whose free
+// flight drew this one, `segment` and the event's ray parameter t, against which a point-like
+// light's sample is then weighted; otherwise null.
 struct MediumPoint {
     Vec3 p;
     const HenyeyGreenstein& phase;
     Vec3 wo;
+    const MediumSegment* segment = nullptr;
+    float t = 0.0f;
 };
 
 // The three estimates above at a scattering event in the medium: the light scattered towards wo
@@ -59,6 +74,22 @@ Color sampleDirectLightFromSet(const Scene& scene, const LightSelection& selecti
                                uint32_t& light);
 Color sampleEnvironmentPart(const Scene& scene, EnvironmentPart part, const MediumPoint& point,
                             Sampler& sampler, PathCounters& counters);
+
+// The direct light of the point-like lights (point, spot and measured luminaires: delta lights
+// at a place) that the medium along `segment` scatters towards the ray's origin, per unit of the
+// path's weight there: one light drawn from `lights`, one distance drawn by equiangular sampling
+// towards it (Kulla and Fajardo 2012, "Importance Sampling Techniques for Path Tracing in
+// Participating Media"), the transmittance from the span's start, sigma_s and the phase function
+// applied, weighted against the free flight's events by the power heuristic in the distance
+// (their light samples of point-like lights take the other weight, MediumPoint::segment). Its
+// density follows a point light's 1 / r^2, where the free flight's follows the transmittance
+// alone and seldom falls near a lamp in a thin haze. Zero when the light drawn is not point-
+// like; `light` receives the light drawn when the result is not zero.
+Color sampleEquiangularInScattering(const Scene& scene, const PowerLightSampler& lights,
+                                    const MediumSegment& segment, Sampler& sampler,
+                                    PathCounters& counters, uint32_t& light);
+// Whether a light is point-like, the lights equiangular sampling draws towards.
+bool pointLike(const Light& light);
 
 // The reflected radiance of sampleDirectLight by all the non-delta lobes and by the glossy ones
 // alone, from one light sample and one shadow ray: for a tracer that takes the Lambertian layer's

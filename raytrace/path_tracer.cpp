@@ -72,6 +72,11 @@ PathTracer::PathTracer(const Scene& scene, const PathTracerSettings& settings,
         throw std::logic_error("PathTracer: light groups need a tracer without reuse");
     if (scene_.medium() && (settings_.reuseRadiosity || settings_.excludeCaustics))
         throw std::logic_error("PathTracer: a medium needs a tracer that counts every path");
+    const HomogeneousMedium* medium = scene_.medium();
+    if (medium && medium->scatters() && settings_.equiangular) {
+        for (const auto& light : scene_.lights())
+            equiangular_ = equiangular_ || pointLike(*light);
+    }
 }
 
 namespace {
@@ -245,6 +250,24 @@ PathRadiance PathTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHit,
         return true;
     };
 
+    // The direct light of the point-like lights that the medium along `segment` scatters, drawn
+    // by equiangular sampling: one light, or one from each group, each filed under its group.
+    const auto addEquiangular = [&](PathComponent component, const MediumSegment& segment) {
+        uint32_t light = 0;
+        if (!groups_) {
+            add(component, w.unheld, w.correction(),
+                sampleEquiangularInScattering(scene_, scene_.lightSampler(), segment, sampler,
+                                              counters, light));
+            return;
+        }
+        for (size_t set = 0; set < selection->sets(); ++set) {
+            const Color direct = sampleEquiangularInScattering(scene_, selection->set(set), segment,
+                                                               sampler, counters, light);
+            if (maxComponent(direct) > 0.0f)
+                groups_->file(light, add(component, w.unheld, w.correction(), direct), L.groups);
+        }
+    };
+
     const HomogeneousMedium* medium = scene_.medium();
     while (true) {
         ++counters.rays;
@@ -252,19 +275,32 @@ PathRadiance PathTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHit,
         // The participating medium along the segment to the hit (or out of the scene), unless
         // the segment runs inside a solid: a free flight, which may end in a scattering event (a
         // V vertex) before the surface. Its weight holds the transmittance and, at an event,
-        // sigma_s (core/medium.h).
-        if (medium && !(hit && insideSolid(scene_, *hit, ray.d))) {
+        // sigma_s (core/medium.h). Before it, equiangular sampling's share of the direct light
+        // scattered along the segment.
+        const bool inMedium = medium && !(hit && insideSolid(scene_, *hit, ray.d));
+        const float tMax = hit ? hit->t : INFINITY;
+        const std::optional<HomogeneousMedium::Span> span =
+            inMedium ? medium->span(ray, tMax) : std::nullopt;
+        const bool scatterHere = settings_.maxDepth < 0 || depth < settings_.maxDepth;
+        const std::optional<MediumSegment> segment =
+            span && equiangular_
+                ? std::optional<MediumSegment>(MediumSegment{ray, span->t0, span->t1, *medium})
+                : std::nullopt;
+        if (segment && scatterHere)
+            addEquiangular(pathComponent(depth + 1, firstVertexSpecular), *segment);
+        if (inMedium) {
             const float uChannel = sampler.get1D();
             const float uDistance = sampler.get1D();
             const HomogeneousMedium::Flight flight =
-                medium->sampleFlight(ray, hit ? hit->t : INFINITY, uChannel, uDistance);
+                medium->sampleFlight(ray, tMax, uChannel, uDistance);
             w *= flight.weight;
             if (flight.scattered) {
-                if (settings_.maxDepth >= 0 && depth >= settings_.maxDepth)
+                if (!scatterHere)
                     break;
                 // The medium's in-scattered light: next-event estimation with the phase
                 // function, then a direction drawn from it, whose weight p / pdf is 1.
-                const MediumPoint point{ray.o + flight.t * ray.d, medium->phase(), -ray.d};
+                const MediumPoint point{ray.o + flight.t * ray.d, medium->phase(), -ray.d,
+                                        segment ? &*segment : nullptr, flight.t};
                 addDirectLight(pathComponent(depth + 1, firstVertexSpecular), point);
                 const Vec3 wi = medium->phase().sample(point.wo, sampler.get2D());
                 ++diffuseVertices;

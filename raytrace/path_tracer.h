@@ -10,6 +10,8 @@
 // the phase function (Pharr, Jakob and Humphreys, "Physically Based Rendering", 4th ed.,
 // chapter 14; Novak et al. 2018, "Monte Carlo methods for volumetric light transport
 // simulation", section 4). Shadow rays take the medium's transmittance (Scene::transmittance).
+// The direct light of point-like lights along each segment is also drawn by equiangular
+// sampling (Kulla and Fajardo 2012), weighed against the free flight's events by MIS.
 //
 // The hybrid pipeline (the seed's three-pass method) narrows it in two ways, each a setting:
 // - reuse of a radiosity solution: a path that reaches a second diffuse vertex (after the first
@@ -93,6 +95,11 @@ struct PathTracerSettings {
     // 0 takes the solution as it is (biased by its error); any q in (0, 1] is unbiased, and
     // q = 1 traces every path as the path tracer does.
     float correctionProbability = kDefaultCorrectionProbability;
+    // In a scattering medium: also draw, on every segment of a path through it, one distance by
+    // equiangular sampling towards a point-like light for its direct light, weighted against the
+    // free flight's events (raytrace/direct_light.h, sampleEquiangularInScattering). Off only to
+    // compare the two estimators.
+    bool equiangular = true;
 
     static constexpr float kDefaultCorrectionProbability = 0.5f;
 };
@@ -130,6 +137,8 @@ class PathTracer {
     const ReusedSolution* radiosity_;
     const ReusedCaustics* causticMap_;
     const LightGroupSplit* groups_;
+    // Equiangular sampling runs: asked for, in a scattering medium, with a point-like light.
+    bool equiangular_ = false;
 };
 
 }  // namespace penumbra

@@ -5,9 +5,11 @@
 // expectations the radiative transfer equation gives them: T(d) for the light that passes, and
 // the integral of T(s) sigma_s h(s) over the span for what scatters at distance s (Pharr, Jakob
 // and Humphreys, "Physically Based Rendering", 4th ed., Eq. 14.3), in every channel of a
-// chromatic medium, one of them clear.
+// chromatic medium, one of them clear; equiangular sampling's density is one, and its samples
+// invert it.
 #include "core/medium.h"
 #include "core/phase_function.h"
+#include "core/sampling.h"
 #include "tests/support/chi2.h"
 #include "tests/support/sample_estimate.h"
 
@@ -61,6 +63,36 @@ TEST(HenyeyGreenstein, SamplesFollowThePhaseFunction) {
             [&](const Vec3& wi) { return phase.p(wo, wi); }, options);
         EXPECT_TRUE(result.passed) << "g = " << g << "\n" << result.report;
     }
+}
+
+// Equiangular sampling of a span towards a point 0.3 m off the ray's line (core/sampling.h): its
+// density integrates to 1 over the span (Simpson's rule), and a sample at u has the fraction u
+// of it below it (the sample inverts the distribution).
+TEST(Equiangular, IsADensityOverTheSpanThatItsSamplesFollow) {
+    const Vec3 o(0.0f), d(1.0f, 0.0f, 0.0f), lamp(2.0f, 0.3f, 0.0f);
+    const std::optional<Equiangular> e = equiangularTowards(o, d, 0.5f, 6.0f, lamp);
+    ASSERT_TRUE(e.has_value());
+    const auto below = [&](double t) {
+        constexpr int kIntervals = 20000;
+        const double h = (t - 0.5) / kIntervals;
+        double sum = 0.0;
+        for (int i = 0; i <= kIntervals; ++i) {
+            const double weight = (i == 0 || i == kIntervals) ? 1.0 : (i % 2 ? 4.0 : 2.0);
+            sum += weight * e->pdf(float(0.5 + i * h));
+        }
+        return sum * h / 3.0;
+    };
+    EXPECT_NEAR(below(6.0), 1.0, 1e-4);
+    for (const float u : {0.1f, 0.5f, 0.9f}) {
+        const float t = e->sample(u);
+        EXPECT_GT(t, 0.5f);
+        EXPECT_LT(t, 6.0f);
+        EXPECT_NEAR(below(t), u, 1e-4) << "u = " << u;
+    }
+    // Its peak is at the foot of the perpendicular from the lamp.
+    EXPECT_GT(e->pdf(2.0f), 10.0f * e->pdf(5.0f));
+    // No density towards a point on the ray's line.
+    EXPECT_FALSE(equiangularTowards(o, d, 0.5f, 6.0f, Vec3(3.0f, 0.0f, 0.0f)).has_value());
 }
 
 const MediumDesc kChromatic{.name = "test",

@@ -10,7 +10,9 @@
 // - the light a point light scatters once into a ray that passes it (the airlight integral) is
 //   a 1-D integral along the ray, which a Simpson rule in double precision computes apart
 //   (Sun, Ramamoorthi, Narasimhan and Nayar 2005, "A Practical Analytic Single Scattering Model
-//   for Real Time Rendering", Eq. 1), for an isotropic and a forward-scattering medium.
+//   for Real Time Rendering", Eq. 1), for an isotropic and a forward-scattering medium, at the
+//   defaults (equiangular sampling towards the lamp with the free flights) and by free flights
+//   alone, and the two estimators agree on a box of smoke where light scatters many times.
 #include "core/sampler.h"
 #include "core/scene.h"
 #include "raytrace/path_tracer.h"
@@ -171,12 +173,19 @@ TEST(VolumetricPathTracer, SingleScatteringOfAPointLightIsTheAirlightIntegral) {
     builder.addQuad({-1, -50, 1}, {1, -50, 1}, {1, -50, -1}, {-1, -50, -1}, black);
     constexpr float kIntensity = 10.0f, kSigmaS = 0.2f, kSigmaA = 0.1f;
     builder.addLight({.type = "point", .intensity = kIntensity, .position = Vec3(0.0f)});
-    // The ray passes 1 m from the lamp and leaves the box [-5, 5]^3 at x = 5, t = 9.
-    const Vec3 o(-4.0f, 1.0f, 0.0f), d(1.0f, 0.0f, 0.0f);
-    PathTracerSettings single;
-    single.maxDepth = 1;
-    for (const float g : {0.0f, 0.6f}) {
-        SCOPED_TRACE("g = " + std::to_string(g));
+    // The ray passes h = 1 m or 0.1 m from the lamp and leaves the box [-5, 5]^3 at x = 5, t = 9.
+    // Equiangular sampling's standard error over that of free flights alone, measured with these
+    // seeds: 0.32 (isotropic, 1 m), 0.84 (forward, 1 m: the phase function's peak, which neither
+    // strategy follows, takes much of the variance) and 0.37 (forward, 0.1 m); the bounds leave a
+    // margin for another sampler, not for a loss of the gain.
+    struct Case {
+        float g, h, maxRatio;
+    };
+    const Vec3 d(1.0f, 0.0f, 0.0f);
+    for (const Case& c : {Case{0.0f, 1.0f, 0.5f}, Case{0.6f, 1.0f, 1.0f}, Case{0.6f, 0.1f, 0.5f}}) {
+        const float g = c.g;
+        SCOPED_TRACE("g = " + std::to_string(g) + ", h = " + std::to_string(c.h));
+        const Vec3 o(-4.0f, c.h, 0.0f);
         const std::unique_ptr<Scene> scene =
             withMedium(builder, "volumetric-airlight",
                        MediumDesc{.name = "haze",
@@ -184,12 +193,52 @@ TEST(VolumetricPathTracer, SingleScatteringOfAPointLightIsTheAirlightIntegral) {
                                   .sigmaS = Color(kSigmaS),
                                   .g = g,
                                   .box = Bounds3{Vec3(-5.0f), Vec3(5.0f)}});
-        const Estimate L = tracePaths(*scene, single, Ray{o, d}, 40000);
         const double expected =
             airlight(o, d, 9.0, kIntensity, kSigmaS, kSigmaA + kSigmaS, HenyeyGreenstein(g));
-        EXPECT_NEAR(L.mean(), expected, kDeviations * L.standardError());
-        EXPECT_LT(L.standardError(), 0.01 * expected);
+        // At the defaults (equiangular sampling with the free flights), and free flights alone.
+        double standardErrors[2];
+        for (const bool equiangular : {true, false}) {
+            SCOPED_TRACE(equiangular ? "equiangular" : "free flights alone");
+            PathTracerSettings single;
+            single.maxDepth = 1;
+            single.equiangular = equiangular;
+            const Estimate L = tracePaths(*scene, single, Ray{o, d}, 40000);
+            EXPECT_NEAR(L.mean(), expected, kDeviations * L.standardError());
+            EXPECT_LT(L.standardError(), 0.02 * expected);
+            standardErrors[equiangular ? 0 : 1] = L.standardError();
+        }
+        // Drawn towards the lamp, the events pass its 1 / r^2 peak: less noise.
+        EXPECT_LT(standardErrors[0], c.maxRatio * standardErrors[1]);
     }
+}
+
+// Multiple scattering of a point light in smoke between grey walls: equiangular sampling and
+// free flights alone are two estimators of the same radiance (every event after the first too).
+TEST(VolumetricPathTracer, EquiangularSamplingAgreesWithFreeFlightsAlone) {
+    GltfBuilder builder;
+    const int walls = builder.addMaterial({.baseColor = Color(0.6f)});
+    addClosedBox(builder, walls, walls);
+    builder.addLight({.type = "point", .intensity = 2.0f, .position = Vec3(0.3f, 0.5f, -0.2f)});
+    // Smoke in the lower half of the room only, half a metre and more below the lamp: the
+    // estimators' light samples from it stay bounded (a point light inside a medium gives each
+    // of them a heavy tail, 1 / r^2 at events near it).
+    const std::unique_ptr<Scene> scene =
+        withMedium(builder, "volumetric-smoke",
+                   MediumDesc{.name = "smoke",
+                              .sigmaA = Color(0.2f, 0.3f, 0.4f),
+                              .sigmaS = Color(1.0f),
+                              .g = 0.5f,
+                              .box = Bounds3{Vec3(-1.0f), Vec3(1.0f, 0.0f, 1.0f)}});
+    const Ray ray{Vec3(0.0f, 0.0f, 0.9f), glm::normalize(Vec3(0.2f, -0.3f, -1.0f))};
+    Estimate estimates[2];
+    for (const bool equiangular : {true, false}) {
+        PathTracerSettings settings;
+        settings.equiangular = equiangular;
+        estimates[equiangular ? 0 : 1] = tracePaths(*scene, settings, ray, 40000);
+    }
+    const double error = std::hypot(estimates[0].standardError(), estimates[1].standardError());
+    EXPECT_NEAR(estimates[0].mean(), estimates[1].mean(), kDeviations * error);
+    EXPECT_LT(error, 0.01 * estimates[1].mean());
 }
 
 }  // namespace
