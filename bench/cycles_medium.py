@@ -22,6 +22,7 @@ bounce limit, which the harness sets to 0, is raised to its --max-bounces (defau
 import argparse
 import os
 import sys
+import traceback
 
 import bpy
 from mathutils import Vector
@@ -106,11 +107,18 @@ def add_medium_box(scene, lo, hi, material):
 
 def main():
     own, rest, bounces = parse_own_args()
-    material = volume_material(own.sigma_a, own.sigma_s, own.g)
 
-    # The harness clears the scene, imports it, sets the render up, then renders: the medium
-    # is added, and the volume bounces allowed, as the render begins.
+    # The harness clears the scene (its materials too), imports it, sets the render up, then
+    # renders: the medium is made, and the volume bounces allowed, as the render begins. A
+    # failure there ends Blender at once: Blender would otherwise render without the medium.
     def add_medium(scene, *_):
+        try:
+            add(scene)
+        except Exception:
+            traceback.print_exc()
+            os._exit(1)
+
+    def add(scene):
         if own.box:
             v = [float(x) for x in own.box.split(",")]
             a, b = to_blender(v[0:3]), to_blender(v[3:6])
@@ -118,7 +126,7 @@ def main():
             hi = [max(p, q) for p, q in zip(a, b)]
         else:
             lo, hi = scene_bounds(scene)
-        add_medium_box(scene, lo, hi, material)
+        add_medium_box(scene, lo, hi, volume_material(own.sigma_a, own.sigma_s, own.g))
         scene.cycles.volume_bounces = bounces
         print("medium sigma_a %s, sigma_s %s, g %g, box %s to %s, volume bounces %d" %
               (own.sigma_a, own.sigma_s, own.g, lo, hi, bounces))

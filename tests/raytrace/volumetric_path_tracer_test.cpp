@@ -12,7 +12,9 @@
 //   (Sun, Ramamoorthi, Narasimhan and Nayar 2005, "A Practical Analytic Single Scattering Model
 //   for Real Time Rendering", Eq. 1), for an isotropic and a forward-scattering medium, at the
 //   defaults (equiangular sampling towards the lamp with the free flights) and by free flights
-//   alone, and the two estimators agree on a box of smoke where light scatters many times.
+//   alone, and the two estimators agree on a box of smoke where light scatters many times;
+// - light groups in one render through smoke: each group as a render lit by it alone.
+#include "core/light_groups.h"
 #include "core/sampler.h"
 #include "core/scene.h"
 #include "raytrace/path_tracer.h"
@@ -25,6 +27,7 @@
 #include <cmath>
 #include <functional>
 #include <memory>
+#include <vector>
 
 namespace penumbra::test {
 namespace {
@@ -214,22 +217,28 @@ TEST(VolumetricPathTracer, SingleScatteringOfAPointLightIsTheAirlightIntegral) {
 
 // Multiple scattering of a point light in smoke between grey walls: equiangular sampling and
 // free flights alone are two estimators of the same radiance (every event after the first too).
-TEST(VolumetricPathTracer, EquiangularSamplingAgreesWithFreeFlightsAlone) {
+// The smoky room of the tests below: the closed box [-1, 1]^3 of grey walls, a point lamp, and
+// chromatic smoke in its lower half only, half a metre and more below the lamp, so that the
+// estimators' light samples from the smoke stay bounded (a point light inside a medium gives each
+// of them a heavy tail, 1 / r^2 at events near it); a ray from the front down into the smoke.
+GltfBuilder smokyRoom() {
     GltfBuilder builder;
     const int walls = builder.addMaterial({.baseColor = Color(0.6f)});
     addClosedBox(builder, walls, walls);
-    builder.addLight({.type = "point", .intensity = 2.0f, .position = Vec3(0.3f, 0.5f, -0.2f)});
-    // Smoke in the lower half of the room only, half a metre and more below the lamp: the
-    // estimators' light samples from it stay bounded (a point light inside a medium gives each
-    // of them a heavy tail, 1 / r^2 at events near it).
-    const std::unique_ptr<Scene> scene =
-        withMedium(builder, "volumetric-smoke",
-                   MediumDesc{.name = "smoke",
-                              .sigmaA = Color(0.2f, 0.3f, 0.4f),
-                              .sigmaS = Color(1.0f),
-                              .g = 0.5f,
-                              .box = Bounds3{Vec3(-1.0f), Vec3(1.0f, 0.0f, 1.0f)}});
-    const Ray ray{Vec3(0.0f, 0.0f, 0.9f), glm::normalize(Vec3(0.2f, -0.3f, -1.0f))};
+    builder.addLight(
+        {.type = "point", .name = "Lamp", .intensity = 2.0f, .position = Vec3(0.3f, 0.5f, -0.2f)});
+    return builder;
+}
+const MediumDesc kLowSmoke{.name = "smoke",
+                           .sigmaA = Color(0.2f, 0.3f, 0.4f),
+                           .sigmaS = Color(1.0f),
+                           .g = 0.5f,
+                           .box = Bounds3{Vec3(-1.0f), Vec3(1.0f, 0.0f, 1.0f)}};
+const Ray kIntoTheSmoke{Vec3(0.0f, 0.0f, 0.9f), glm::normalize(Vec3(0.2f, -0.3f, -1.0f))};
+
+TEST(VolumetricPathTracer, EquiangularSamplingAgreesWithFreeFlightsAlone) {
+    const std::unique_ptr<Scene> scene = withMedium(smokyRoom(), "volumetric-smoke", kLowSmoke);
+    const Ray ray = kIntoTheSmoke;
     Estimate estimates[2];
     for (const bool equiangular : {true, false}) {
         PathTracerSettings settings;
@@ -239,6 +248,57 @@ TEST(VolumetricPathTracer, EquiangularSamplingAgreesWithFreeFlightsAlone) {
     const double error = std::hypot(estimates[0].standardError(), estimates[1].standardError());
     EXPECT_NEAR(estimates[0].mean(), estimates[1].mean(), kDeviations * error);
     EXPECT_LT(error, 0.01 * estimates[1].mean());
+}
+
+// Light groups in one render through the medium (core/light_groups.h): the smoky room, lit by
+// its lamp and by an emissive panel under the ceiling. Each sample's groups sum to
+// its radiance, and each group's mean is that of a render lit by the group alone, so the
+// scattering events' light samples, equiangular and free-flight alike, are drawn and weighted
+// within each group.
+TEST(VolumetricPathTracer, LightGroupsSplitTheMediumsLight) {
+    GltfBuilder builder = smokyRoom();
+    const int panel = builder.addMaterial({.baseColor = Color(0.0f),
+                                           .emissive = Color(1.0f, 0.8f, 0.6f),
+                                           .emissiveStrength = 2.0f,
+                                           .name = "Panel"});
+    // Facing down: counter-clockwise seen from below.
+    builder.addQuad({-0.8f, 0.95f, -0.8f}, {-0.4f, 0.95f, -0.8f}, {-0.4f, 0.95f, -0.4f},
+                    {-0.8f, 0.95f, -0.4f}, panel);
+    const std::unique_ptr<Scene> smoky = withMedium(builder, "volumetric-groups", kLowSmoke);
+    const SceneDescription& description = smoky->description();
+    const LightGroupSplit split(*smoky);
+    ASSERT_EQ(split.groups().size(), 2u);
+    const PathTracer tracer(*smoky, PathTracerSettings{}, nullptr, nullptr, &split);
+    Ray ray = kIntoTheSmoke;
+    ray.o -= Vec3(description.origin);
+    constexpr int kSamples = 20000;
+    std::vector<Estimate> splitMeans(split.groups().size());
+    Sampler sampler(9);
+    PathCounters counters;
+    for (int i = 0; i < kSamples; ++i) {
+        sampler.startPixelSample(IVec2(i % 256, i / 256), 0);
+        const PathRadiance L = tracer.Li(ray, sampler, nullptr, counters);
+        Color sum(0.0f);
+        for (size_t g = 0; g < split.groups().size(); ++g) {
+            sum += L.groups[g];
+            splitMeans[g].add(L.groups[g].g);
+        }
+        ASSERT_NEAR(sum.g, L.total().g, 1e-5f * L.total().g + 1e-9f) << "sample " << i;
+    }
+    for (size_t g = 0; g < split.groups().size(); ++g) {
+        SCOPED_TRACE(split.groups()[g].name);
+        const Scene alone(litOnlyBy(description, split.groups()[g]));
+        const PathTracer plain(alone, PathTracerSettings{});
+        Estimate aloneMean;
+        Sampler aloneSampler(21);
+        for (int i = 0; i < kSamples; ++i) {
+            aloneSampler.startPixelSample(IVec2(i % 256, i / 256), 0);
+            aloneMean.add(plain.Li(ray, aloneSampler, nullptr, counters).total().g);
+        }
+        const double error = std::hypot(splitMeans[g].standardError(), aloneMean.standardError());
+        EXPECT_NEAR(splitMeans[g].mean(), aloneMean.mean(), kDeviations * error);
+        EXPECT_LT(error, 0.02 * aloneMean.mean());
+    }
 }
 
 }  // namespace
