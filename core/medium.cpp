@@ -41,12 +41,9 @@ float HomogeneousMedium::flightPdf(float distance) const {
     return (sigmaT_[0] * T[0] + sigmaT_[1] * T[1] + sigmaT_[2] * T[2]) / 3.0f;
 }
 
-HomogeneousMedium::Flight HomogeneousMedium::sampleFlight(const Ray& ray, float tMax,
-                                                          float uChannel, float uDistance) const {
-    const std::optional<Span> s = span(ray, tMax);
-    if (!s)
-        return {};
-    const float length = s->t1 - s->t0;
+HomogeneousMedium::Flight HomogeneousMedium::sampleFlight(const Span& span, float uChannel,
+                                                          float uDistance) const {
+    const float length = span.t1 - span.t0;
     if (!scatters())
         return {false, 0.0f, glm::exp(-sigmaT_ * length)};
     const int channel = std::min(int(uChannel * 3.0f), 2);
@@ -55,7 +52,7 @@ HomogeneousMedium::Flight HomogeneousMedium::sampleFlight(const Ray& ray, float 
     const float distance =
         sigma > 0.0f ? -std::log1p(-std::min(uDistance, 0.99999994f)) / sigma : INFINITY;
     if (distance < length)
-        return {true, s->t0 + distance,
+        return {true, span.t0 + distance,
                 glm::exp(-sigmaT_ * distance) * sigmaS_ / flightPdf(distance)};
     const Color T = glm::exp(-sigmaT_ * length);
     const float pass = (T[0] + T[1] + T[2]) / 3.0f;

@@ -58,16 +58,16 @@ class HomogeneousMedium {
     // exp(-sigma_t L), L the length of the ray's span [0, tMax] in the box.
     Color transmittance(const Ray& ray, float tMax) const;
 
-    // One free flight along the ray's span [0, tMax] (the header's sampling): either a scattering
-    // event at distance t, weighted by T(t) sigma_s / pdf(t), where the path goes on with the
-    // phase function, or none, weighted by T / P(none), where it goes on to tMax. The weight of
-    // a ray that misses the box is 1.
+    // One free flight along a ray's span in the box (span(), not empty; the header's sampling):
+    // either a scattering event at ray parameter t, weighted by T(t - t0) sigma_s / pdf, where
+    // the path goes on with the phase function, or none, weighted by T / P(none), where it goes
+    // on past the span.
     struct Flight {
         bool scattered = false;
         float t = 0.0f;
         Color weight{1.0f};
     };
-    Flight sampleFlight(const Ray& ray, float tMax, float uChannel, float uDistance) const;
+    Flight sampleFlight(const Span& span, float uChannel, float uDistance) const;
     // The density (per metre) with which sampleFlight() draws a scattering event `distance` into
     // the span: the three channels' exponentials together; 0 for a medium that does not scatter.
     float flightPdf(float distance) const;

@@ -288,11 +288,11 @@ PathRadiance PathTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHit,
                 : std::nullopt;
         if (segment && scatterHere)
             addEquiangular(pathComponent(depth + 1, firstVertexSpecular), *segment);
-        if (inMedium) {
+        if (span) {
             const float uChannel = sampler.get1D();
             const float uDistance = sampler.get1D();
             const HomogeneousMedium::Flight flight =
-                medium->sampleFlight(ray, tMax, uChannel, uDistance);
+                medium->sampleFlight(*span, uChannel, uDistance);
             w *= flight.weight;
             if (flight.scattered) {
                 if (!scatterHere)

@@ -38,6 +38,16 @@ const std::string kSlab =
     "sigma_a = [0.1, 0.4, 1.0]\n"
     "box = [990, 40, -23.5, 1010, 60, -22]\n";
 
+// Renders the script of `dir` and expects it refused: exit status 2, `message` said, no image.
+void expectRefused(const TempDir& dir, const std::string& message) {
+    const std::string output = dir.file("refused.exr");
+    const CliResult r = runPenumbra("render " + dir.file("scene.toml") + " -o " + output +
+                                    " --width 8 --height 8 --spp 4");
+    EXPECT_EQ(r.status, 2) << r.output;
+    EXPECT_NE(r.output.find(message), std::string::npos) << r.output;
+    EXPECT_FALSE(std::filesystem::exists(output));
+}
+
 TEST(Media, AScriptsSlabAttenuatesByBeerLambert) {
     TempDir dir("media-slab");
     writeScene(dir);
@@ -55,28 +65,16 @@ TEST(Media, PipelinesWithoutMediaRefuseTheScene) {
     TempDir dir("media-refused");
     writeScene(dir);
     writeScript(dir, "[[pass]]\ntype = \"radiosity\"\n[[pass]]\ntype = \"distribution\"\n", kSlab);
-    const CliResult r = runPenumbra("render " + dir.file("scene.toml") + " -o " +
-                                    dir.file("refused.exr") + " --width 8 --height 8 --spp 4");
-    EXPECT_EQ(r.status, 2) << r.output;
     // The radiosity pass is skipped here (the panel reflects nothing): the distribution pass is
     // the first that runs.
-    EXPECT_NE(r.output.find("pass 2 (distribution) does not render participating media"),
-              std::string::npos)
-        << r.output;
-    EXPECT_FALSE(std::filesystem::exists(dir.file("refused.exr")));
+    expectRefused(dir, "pass 2 (distribution) does not render participating media");
 }
 
 TEST(Media, ABadMediumIsRefusedAtItsPlace) {
     TempDir dir("media-bad");
     writeScene(dir);
     writeScript(dir, "[[pass]]\ntype = \"path\"\n", "[[medium]]\nsigma_s = 0.1\ng = 1.5\n");
-    const CliResult r = runPenumbra("render " + dir.file("scene.toml") + " -o " +
-                                    dir.file("bad.exr") + " --width 8 --height 8 --spp 4");
-    EXPECT_EQ(r.status, 2) << r.output;
-    EXPECT_NE(r.output.find("scene.toml:6:5: medium[0].g: expected a number in (-1, 1), got 1.5"),
-              std::string::npos)
-        << r.output;
-    EXPECT_FALSE(std::filesystem::exists(dir.file("bad.exr")));
+    expectRefused(dir, "scene.toml:6:5: medium[0].g: expected a number in (-1, 1), got 1.5");
 }
 
 }  // namespace

@@ -149,7 +149,7 @@ TEST(HomogeneousMedium, FreeFlightWeightsHaveTheTransferEquationsExpectations) {
     std::array<Estimate, 3> passed, scattered, scatteredAtS;
     for (int i = 0; i < kSamples; ++i) {
         const HomogeneousMedium::Flight flight =
-            medium.sampleFlight(ray, INFINITY, uniform(random), uniform(random));
+            medium.sampleFlight(*medium.span(ray, INFINITY), uniform(random), uniform(random));
         for (int c = 0; c < 3; ++c) {
             passed[c].add(flight.scattered ? 0.0 : flight.weight[c]);
             scattered[c].add(flight.scattered ? flight.weight[c] : 0.0);
@@ -173,7 +173,8 @@ TEST(HomogeneousMedium, FreeFlightWeightsHaveTheTransferEquationsExpectations) {
     MediumDesc absorbing = kChromatic;
     absorbing.sigmaS = Color(0.0f);
     const HomogeneousMedium absorber(absorbing, kBox);
-    const HomogeneousMedium::Flight flight = absorber.sampleFlight(ray, INFINITY, 0.5f, 0.5f);
+    const HomogeneousMedium::Flight flight =
+        absorber.sampleFlight(*absorber.span(ray, INFINITY), 0.5f, 0.5f);
     EXPECT_FALSE(flight.scattered);
     EXPECT_NEAR(flight.weight[0], std::exp(-0.2 * kD), 1e-6);
     EXPECT_EQ(flight.weight[1], 1.0f);
