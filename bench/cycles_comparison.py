@@ -131,6 +131,10 @@ def medium_args(medium):
             "--g", str(float(medium.get("g", 0.0)))]
     if "box" in medium:
         args += ["--box", ",".join(str(float(x)) for x in medium["box"])]
+    if "density" in medium:
+        args += ["--density", medium["density"]]
+        if "density_grid" in medium:
+            args += ["--density-grid", medium["density_grid"]]
     return args
 
 
@@ -295,6 +299,9 @@ def main():
             script = tomllib.load(f)
         a.gltf = os.path.join(os.path.dirname(os.path.abspath(a.scene)), script["scene"])
         a.medium = script.get("medium", [None])[0]
+        if a.medium is not None and "density" in a.medium:
+            a.medium["density"] = os.path.join(os.path.dirname(os.path.abspath(a.scene)),
+                                               a.medium["density"])
         a.pipelines = ["script"]
     os.makedirs(a.workdir, exist_ok=True)
     w = lambda name: os.path.join(a.workdir, name)  # noqa: E731

@@ -8,7 +8,8 @@ this script's own, and adds the medium just before the render starts:
 
     blender -b --factory-startup -P bench/cycles_medium.py -- \
         --peers ../shared/peers --sigma-a R,G,B --sigma-s R,G,B [--g G] \
-        [--box X0,Y0,Z0,X1,Y1,Z1] CYCLES_RENDER_ARGS...
+        [--box X0,Y0,Z0,X1,Y1,Z1 | --density FILE.vdb [--density-grid NAME]] \
+        CYCLES_RENDER_ARGS...
 
 The medium is a box (--box in the glTF file's frame, metres; by default the bounding box of the
 scene's meshes, as penumbra's default, widened by 1e-5 of its diagonal) whose surface is invisible and whose volume shader is Cycles' Volume Scatter
@@ -18,6 +19,13 @@ D_a = the largest channel of sigma_a), so that Cycles' coefficients per metre, d
 colour and density times one less the colour, are penumbra's. The material is marked
 homogeneous (Cycles then samples distances analytically, not by ray marching), and the volume
 bounce limit, which the harness sets to 0, is raised to its --max-bounces (default 64).
+
+With --density, the medium is instead the OpenVDB file's grid (--density-grid, default
+"density") as a Volume object placed by the file's voxel transform in the glTF frame (a quarter
+turn about X into Blender's), both densities multiplied by the grid's value (an Attribute node),
+read at full precision with linear interpolation; Cycles ray-marches it, with steps of a quarter
+of a voxel (--step-rate, default 0.25) to keep its marching error small. A box stretching the
+grid (penumbra's `box` with `density`) is not supported here.
 """
 import argparse
 import os
@@ -25,7 +33,7 @@ import sys
 import traceback
 
 import bpy
-from mathutils import Vector
+from mathutils import Matrix, Vector
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from blender_harness import run_harness, to_blender  # noqa: E402
@@ -47,6 +55,9 @@ def parse_own_args():
     ap.add_argument("--sigma-s", type=triple, default=[0.0, 0.0, 0.0], help="per metre")
     ap.add_argument("--g", type=float, default=0.0, help="Henyey-Greenstein asymmetry")
     ap.add_argument("--box", default=None, help="x0,y0,z0,x1,y1,z1 in the glTF frame")
+    ap.add_argument("--density", default=None, help="an OpenVDB file whose grid scales both")
+    ap.add_argument("--density-grid", default="density", help="the grid's name")
+    ap.add_argument("--step-rate", type=float, default=0.25, help="Cycles' volume step rate")
     own, rest = ap.parse_known_args(argv)
     bounces = rest[rest.index("--max-bounces") + 1] if "--max-bounces" in rest else 64
     return own, rest, int(bounces)
@@ -69,11 +80,13 @@ def scene_bounds(scene):
     return [a - margin for a in lo], [b + margin for b in hi]
 
 
-def volume_material(sigma_a, sigma_s, g):
-    """Volume Scatter + Volume Absorption with the coefficients per metre given."""
+def volume_material(sigma_a, sigma_s, g, grid=None):
+    """Volume Scatter + Volume Absorption with the coefficients per metre given, both scaled by
+    the volume's attribute `grid` when one is named."""
     material = bpy.data.materials.new("penumbra medium")
     material.use_nodes = True
-    material.cycles.homogeneous_volume = True
+    material.cycles.homogeneous_volume = grid is None
+    material.cycles.volume_interpolation = "LINEAR"
     nodes, links = material.node_tree.nodes, material.node_tree.links
     nodes.clear()
     total = nodes.new("ShaderNodeAddShader")
@@ -87,6 +100,15 @@ def volume_material(sigma_a, sigma_s, g):
     absorb.inputs["Density"].default_value = absorb_density
     absorb.inputs["Color"].default_value = [
         1.0 - a / absorb_density if absorb_density > 0.0 else 1.0 for a in sigma_a] + [1.0]
+    if grid is not None:
+        attribute = nodes.new("ShaderNodeAttribute")
+        attribute.attribute_name = grid
+        for shader, density in ((scatter, scatter_density), (absorb, absorb_density)):
+            scale = nodes.new("ShaderNodeMath")
+            scale.operation = "MULTIPLY"
+            scale.inputs[1].default_value = density
+            links.new(attribute.outputs["Fac"], scale.inputs[0])
+            links.new(scale.outputs["Value"], shader.inputs["Density"])
     links.new(scatter.outputs["Volume"], total.inputs[0])
     links.new(absorb.outputs["Volume"], total.inputs[1])
     output = nodes.new("ShaderNodeOutputMaterial")
@@ -105,6 +127,20 @@ def add_medium_box(scene, lo, hi, material):
     scene.collection.objects.link(box)
 
 
+def add_density_volume(scene, path, material):
+    """The OpenVDB file as a Volume object, its voxel transform's frame (glTF's) turned into
+    Blender's: (x, y, z) -> (x, -z, y)."""
+    volume = bpy.data.volumes.new("penumbra density")
+    volume.filepath = path
+    volume.render.precision = "FULL"
+    volume.grids.load()
+    volume.materials.append(material)
+    obj = bpy.data.objects.new("penumbra density", volume)
+    obj.matrix_world = Matrix(((1, 0, 0, 0), (0, 0, -1, 0), (0, 1, 0, 0), (0, 0, 0, 1)))
+    scene.collection.objects.link(obj)
+    return [grid.name for grid in volume.grids]
+
+
 def main():
     own, rest, bounces = parse_own_args()
 
@@ -119,6 +155,18 @@ def main():
             os._exit(1)
 
     def add(scene):
+        if own.density:
+            if own.box:
+                raise RuntimeError("--box with --density is not supported")
+            material = volume_material(own.sigma_a, own.sigma_s, own.g, own.density_grid)
+            grids = add_density_volume(scene, own.density, material)
+            if own.density_grid not in grids:
+                raise RuntimeError("%s: no grid %s (%s)" % (own.density, own.density_grid, grids))
+            scene.cycles.volume_bounces = bounces
+            scene.cycles.volume_step_rate = own.step_rate
+            print("medium sigma_a %s, sigma_s %s, g %g, density %s (grids %s), volume bounces %d"
+                  % (own.sigma_a, own.sigma_s, own.g, own.density, grids, bounces))
+            return
         if own.box:
             v = [float(x) for x in own.box.split(",")]
             a, b = to_blender(v[0:3]), to_blender(v[3:6])

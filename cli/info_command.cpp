@@ -61,7 +61,7 @@ void printInfo(const Scene& scene) {
     std::cout << "\nbounds:     (" << b.lo.x << ", " << b.lo.y << ", " << b.lo.z << ") to ("
               << b.hi.x << ", " << b.hi.y << ", " << b.hi.z << ") m, relative to (" << desc.origin.x
               << ", " << desc.origin.y << ", " << desc.origin.z << ") in the file\n";
-    if (const HomogeneousMedium* medium = scene.medium()) {
+    if (const Medium* medium = scene.medium()) {
         const Color& sigmaS = medium->sigmaS();
         const Color sigmaA = medium->sigmaT() - sigmaS;
         const Bounds3& box = medium->box();
@@ -69,7 +69,16 @@ void printInfo(const Scene& scene) {
                   << ") /m, sigma_s (" << sigmaS.r << ", " << sigmaS.g << ", " << sigmaS.b
                   << ") /m, g " << medium->phase().g() << ", in (" << box.lo.x << ", " << box.lo.y
                   << ", " << box.lo.z << ") to (" << box.hi.x << ", " << box.hi.y << ", "
-                  << box.hi.z << ") m\n";
+                  << box.hi.z << ") m";
+        if (const DensityGrid* density = medium->density())
+            std::cout << ", scaled by a density grid of " << density->nodes().x << " x "
+                      << density->nodes().y << " x " << density->nodes().z << " nodes, at most "
+                      << density->maxValue();
+        if (medium->emits()) {
+            const Color& Le = medium->emission();
+            std::cout << ", emitting (" << Le.r << ", " << Le.g << ", " << Le.b << ") cd/m²";
+        }
+        std::cout << "\n";
     }
     std::cout << "extensions: ";
     for (const std::string& e : desc.report.extensionsUsed)

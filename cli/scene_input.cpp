@@ -9,6 +9,7 @@
 #include "core/portal_detection.h"
 #include "core/sky.h"
 #include "core/solar_position.h"
+#include "core/vdb_reader.h"
 
 #include <algorithm>
 #include <cmath>
@@ -364,7 +365,11 @@ Mat3 luminaireFrame(const ScriptLuminaire& luminaire) {
     return Mat3(glm::dmat3(x, glm::cross(z, x), z));
 }
 
+// The most nodes a density grid may have once made dense: 2^28 floats, 1 GiB.
+constexpr size_t kMaxDensityNodes = size_t(1) << 28;
+
 // A pass script's [[medium]] table as the scene's medium, its box moved into penumbra's frame.
+// A density grid fills the box when one is given, else it stays where its file puts it.
 void addMedium(const std::optional<ScriptMedium>& medium, SceneDescription& description) {
     if (!medium)
         return;
@@ -373,11 +378,22 @@ void addMedium(const std::optional<ScriptMedium>& medium, SceneDescription& desc
     desc.sigmaA = Color(medium->sigmaA[0], medium->sigmaA[1], medium->sigmaA[2]);
     desc.sigmaS = Color(medium->sigmaS[0], medium->sigmaS[1], medium->sigmaS[2]);
     desc.g = medium->g;
+    desc.emission = Color(medium->emission[0], medium->emission[1], medium->emission[2]);
     if (const auto& box = medium->box) {
         Bounds3 bounds;
         bounds.extend(Vec3(glm::dvec3((*box)[0], (*box)[1], (*box)[2]) - description.origin));
         bounds.extend(Vec3(glm::dvec3((*box)[3], (*box)[4], (*box)[5]) - description.origin));
         desc.box = bounds;
+    }
+    if (medium->densityFile) {
+        VoxelDensity voxels =
+            readVdbDensity(*medium->densityFile, medium->densityGrid, kMaxDensityNodes);
+        const Vec3 origin(description.origin);
+        const Bounds3 box =
+            desc.box.value_or(Bounds3{voxels.box.lo - origin, voxels.box.hi - origin});
+        desc.density =
+            std::make_shared<const DensityGrid>(box, voxels.nodes, std::move(voxels.values));
+        desc.box = box;
     }
     description.media.push_back(desc);
 }
@@ -444,7 +460,7 @@ std::unique_ptr<Scene> loadScene(const SceneInput& input) {
         };
     }
     auto scene = std::make_unique<Scene>(std::move(description), findPortals);
-    if (!input.quiet && scene->lights().empty()) {
+    if (!input.quiet && scene->lights().empty() && !(scene->medium() && scene->medium()->emits())) {
         std::cerr << "penumbra: warning: " << input.path
                   << ": the scene has no lights and no emissive surfaces; the image will be "
                      "black (light it with --environment FILE or --sky MODEL)\n";

@@ -69,6 +69,10 @@ std::vector<LightGroup> lightGroups(const SceneDescription& scene) {
         if (scene.environment->sun && scene.environment->sun->directNormalIlluminance > 0.0f)
             groupCalled(groups, "sun").sun = true;
     }
+    for (const MediumDesc& medium : scene.media) {
+        if (maxComponent(medium.emission) > 0.0f)
+            groupCalled(groups, "medium").medium = true;
+    }
     return groups;
 }
 
@@ -97,6 +101,10 @@ SceneDescription litOnlyBy(const SceneDescription& scene, const LightGroup& grou
             if (!group.sun)
                 lit.environment->sun.reset();
         }
+    }
+    if (!group.medium) {
+        for (MediumDesc& medium : lit.media)
+            medium.emission = Color(0.0f);
     }
     return lit;
 }
@@ -131,6 +139,8 @@ LightGroupSplit::LightGroupSplit(const Scene& scene) : groups_(lightGroups(scene
             mapGroup_ = int(g);
         if (group.sun)
             sunGroup_ = int(g);
+        if (group.medium)
+            mediumGroup_ = int(g);
     }
     using Kind = Scene::LightOrigin::Kind;
     for (size_t i = 0; i < scene.lights().size(); ++i) {
@@ -146,6 +156,11 @@ LightGroupSplit::LightGroupSplit(const Scene& scene) : groups_(lightGroups(scene
 void LightGroupSplit::file(uint32_t light, const Color& value, std::span<Color> layers) const {
     if (groupOfLight_[light] >= 0)
         layers[size_t(groupOfLight_[light])] += value;
+}
+
+void LightGroupSplit::fileMediumEmission(const Color& value, std::span<Color> layers) const {
+    if (mediumGroup_ >= 0)
+        layers[size_t(mediumGroup_)] += value;
 }
 
 void LightGroupSplit::fileEmission(uint32_t material, const Color& value,

@@ -17,7 +17,8 @@ namespace penumbra {
 
 struct LightGroup {
     // "light-NAME" (KHR_lights_punctual), "luminaire-NAME" (a profile's name or file),
-    // "emissive-NAME" (a material), "sky" or "environment" (the map), "sun"; NAME with every
+    // "emissive-NAME" (a material), "sky" or "environment" (the map), "sun", "medium" (an
+    // emitting participating medium); NAME with every
     // character other than a letter, a digit, '-' and '_' replaced by '_'. Sources whose
     // names agree share a group.
     std::string name;
@@ -26,16 +27,18 @@ struct LightGroup {
     std::vector<size_t> materials;       // ... ::materials, emissive ones
     bool environmentMap = false;         // the environment's image (a sky with its ground)
     bool sun = false;                    // the environment's sun disc
+    bool medium = false;                 // the participating medium's emission
 };
 
 // The groups of `scene`'s sources, in the order of the description (punctual lights, luminaires,
-// emissive materials, the map, the sun); empty for a scene without light.
+// emissive materials, the map, the sun, the medium); empty for a scene without light.
 std::vector<LightGroup> lightGroups(const SceneDescription& scene);
 
 // A copy of `scene` lit by `group` alone: the other punctual lights and luminaires removed, the
 // other materials' emission set to zero (their surfaces stay, so they still cast shadows), the
 // environment's map black when the group lacks it, its sun removed when the group lacks it, and
-// the environment removed when the group has neither.
+// the environment removed when the group has neither, the medium's emission zero when the group
+// lacks it.
 SceneDescription litOnlyBy(const SceneDescription& scene, const LightGroup& group);
 
 // The light of one render filed by group, for a tracer whose every contribution comes from one
@@ -62,12 +65,14 @@ class LightGroupSplit {
     void file(uint32_t light, const Color& value, std::span<Color> layers) const;
     // The same for emission seen on a surface of material `material`.
     void fileEmission(uint32_t material, const Color& value, std::span<Color> layers) const;
+    // The same for the participating medium's emission.
+    void fileMediumEmission(const Color& value, std::span<Color> layers) const;
 
   private:
     std::vector<LightGroup> groups_;
     std::vector<int> groupOfMaterial_;  // per material: its group, -1 when it emits nothing
     std::vector<int> groupOfLight_;     // per light of the scene; -1 for the environment
-    int mapGroup_ = -1, sunGroup_ = -1;
+    int mapGroup_ = -1, sunGroup_ = -1, mediumGroup_ = -1;
     LightSelection selection_;
 };
 

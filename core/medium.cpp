@@ -5,10 +5,16 @@
 
 namespace penumbra {
 
-HomogeneousMedium::HomogeneousMedium(const MediumDesc& desc, const Bounds3& box)
-    : box_(box), sigmaS_(desc.sigmaS), sigmaT_(desc.sigmaA + desc.sigmaS), phase_(desc.g) {}
+Medium::Medium(const MediumDesc& desc, const Bounds3& box)
+    : box_(desc.density ? desc.density->box() : box),
+      sigmaS_(desc.sigmaS),
+      sigmaT_(desc.sigmaA + desc.sigmaS),
+      sigmaA_(desc.sigmaA),
+      emission_(desc.emission),
+      phase_(desc.g),
+      density_(desc.density) {}
 
-std::optional<HomogeneousMedium::Span> HomogeneousMedium::span(const Ray& ray, float tMax) const {
+std::optional<Medium::Span> Medium::span(const Ray& ray, float tMax) const {
     // The slab test (Kay and Kajiya 1986): the ray's entry into and exit from each axis's slab.
     float t0 = 0.0f, t1 = tMax;
     for (int axis = 0; axis < 3; ++axis) {
@@ -28,33 +34,66 @@ std::optional<HomogeneousMedium::Span> HomogeneousMedium::span(const Ray& ray, f
     return Span{t0, t1};
 }
 
-Color HomogeneousMedium::transmittance(const Ray& ray, float tMax) const {
-    const std::optional<Span> s = span(ray, tMax);
-    return s ? glm::exp(-sigmaT_ * (s->t1 - s->t0)) : Color(1.0f);
+float Medium::opticalLength(const Ray& ray, float t0, float t1) const {
+    return density_ ? density_->integral(ray, t0, t1) : t1 - t0;
 }
 
-float HomogeneousMedium::flightPdf(float distance) const {
-    if (!scatters())
-        return 0.0f;
-    // The density of the three channels' strategies together (balance heuristic).
-    const Color T = glm::exp(-sigmaT_ * distance);
+Color Medium::transmittance(const Ray& ray, float tMax) const {
+    const std::optional<Span> s = span(ray, tMax);
+    return s ? transmittance(ray, s->t0, s->t1) : Color(1.0f);
+}
+
+Color Medium::transmittance(const Ray& ray, float t0, float t) const {
+    return glm::exp(-sigmaT_ * opticalLength(ray, t0, t));
+}
+
+Color Medium::emitted(const Ray& ray, const Span& span) const {
+    if (!emits())
+        return Color(0.0f);
+    const Color T = transmittance(ray, span.t0, span.t1);
+    Color L(0.0f);
+    for (int c = 0; c < 3; ++c) {
+        if (sigmaT_[c] > 0.0f)
+            L[c] = emission_[c] * sigmaA_[c] / sigmaT_[c] * (1.0f - T[c]);
+    }
+    return L;
+}
+
+float Medium::channelsPdf(float D) const {
+    // The density of the three channels' strategies together (balance heuristic), each
+    // sigma_t exp(-sigma_t D) per unit of density at the event.
+    const Color T = glm::exp(-sigmaT_ * D);
     return (sigmaT_[0] * T[0] + sigmaT_[1] * T[1] + sigmaT_[2] * T[2]) / 3.0f;
 }
 
-HomogeneousMedium::Flight HomogeneousMedium::sampleFlight(const Span& span, float uChannel,
-                                                          float uDistance) const {
-    const float length = span.t1 - span.t0;
+float Medium::flightPdf(const Ray& ray, float t0, float t) const {
     if (!scatters())
-        return {false, 0.0f, glm::exp(-sigmaT_ * length)};
+        return 0.0f;
+    const float densityAtEvent = density_ ? density_->at(ray.o + t * ray.d) : 1.0f;
+    return densityAtEvent * channelsPdf(opticalLength(ray, t0, t));
+}
+
+Medium::Flight Medium::sampleFlight(const Ray& ray, const Span& span, float uChannel,
+                                    float uDistance) const {
+    if (!scatters())
+        return {false, 0.0f, transmittance(ray, span.t0, span.t1)};
     const int channel = std::min(int(uChannel * 3.0f), 2);
     const float sigma = sigmaT_[channel];
-    // Distance to the event in the chosen channel's exponential; infinite where it is clear.
-    const float distance =
+    // The optical length D to the event in the chosen channel (its optical depth sigma D drawn
+    // from an exponential); infinite where that channel is clear.
+    const float D =
         sigma > 0.0f ? -std::log1p(-std::min(uDistance, 0.99999994f)) / sigma : INFINITY;
-    if (distance < length)
-        return {true, span.t0 + distance,
-                glm::exp(-sigmaT_ * distance) * sigmaS_ / flightPdf(distance)};
-    const Color T = glm::exp(-sigmaT_ * length);
+    std::optional<float> t;
+    if (!density_) {
+        if (D < span.t1 - span.t0)
+            t = span.t0 + D;
+    } else if (D < INFINITY) {
+        t = density_->invertIntegral(ray, span.t0, span.t1, D);
+    }
+    // The event's weight T sigma_s / pdf, the density at the event cancelled.
+    if (t)
+        return {true, *t, glm::exp(-sigmaT_ * D) * sigmaS_ / channelsPdf(D)};
+    const Color T = transmittance(ray, span.t0, span.t1);
     const float pass = (T[0] + T[1] + T[2]) / 3.0f;
     return {false, 0.0f, T / pass};
 }

@@ -28,7 +28,7 @@ Scene::Scene(SceneDescription description, const PortalFinder& findPortals)
         throw std::logic_error("Scene: at most one participating medium");
     if (!desc_.media.empty()) {
         const MediumDesc& medium = desc_.media.front();
-        medium_ = std::make_unique<HomogeneousMedium>(medium, medium.box.value_or(bounds_));
+        medium_ = std::make_unique<Medium>(medium, medium.box.value_or(bounds_));
     }
     for (const Mesh& mesh : desc_.meshes) {
         hasTransparentSurfaces_ =

@@ -88,7 +88,7 @@ class Scene {
     }
 
     // The participating medium (SceneDescription::media, core/medium.h), or null.
-    const HomogeneousMedium* medium() const { return medium_.get(); }
+    const Medium* medium() const { return medium_.get(); }
 
     // Transparent surfaces (straightTransmittance) a ray passes before it is treated as blocked:
     // the same for shadow rays, photons and the rays that look at a radiosity solution, so that
@@ -126,7 +126,7 @@ class Scene {
     const EnvironmentLight* environment_ = nullptr;  // owned by lights_
     int environmentIndex_ = -1;
     Bounds3 bounds_;
-    std::unique_ptr<HomogeneousMedium> medium_;
+    std::unique_ptr<Medium> medium_;
     size_t triangleCount_ = 0;
     bool hasTransparentSurfaces_ = false;  // if not, shadow rays need only an occlusion test
 };

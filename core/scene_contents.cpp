@@ -103,6 +103,7 @@ SceneContents analyseScene(const Scene& scene) {
     }
     contents.medium = scene.medium() != nullptr;
     contents.mediumScatters = contents.medium && scene.medium()->scatters();
+    contents.mediumEmits = contents.medium && scene.medium()->emits();
     contents.lightSolidAngleAtSpecular = lightSolidAngleAtSpecular(scene, specularMeshes);
     return contents;
 }

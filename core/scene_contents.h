@@ -13,9 +13,11 @@ struct SceneContents {
     bool specular = false;  // a surface with a specular (delta) lobe (S vertices)
     size_t areaLights = 0, punctualLights = 0;
     bool environment = false;  // an environment light (Scene::environment())
-    // A participating medium (Scene::medium()), and whether it scatters (V vertices).
+    // A participating medium (Scene::medium()), whether it scatters (V vertices) and whether it
+    // emits (a source of light too).
     bool medium = false;
     bool mediumScatters = false;
+    bool mediumEmits = false;
     // How large the lights look from the specular meshes (steradians): the solid angle of all
     // the area lights summed, seen from the centre of each mesh with a specular lobe, averaged
     // over those meshes weighted by the light power that can reach each (each light's power

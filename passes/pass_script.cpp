@@ -27,7 +27,8 @@
 //                                                             position, aim, c0, multiplier,
 //                                                             color (docs/pass-scripts.md)
 //   medium       array of one table        none               a participating medium: sigma_a,
-//                                                             sigma_s, g, box
+//                                                             sigma_s, g, emission, box,
+//                                                             density (.vdb), density_grid
 //   pass         array of tables           required           the passes, in order
 #include "passes/pass_script.h"
 
@@ -472,9 +473,10 @@ ScriptLuminaire readLuminaire(const ScriptTable& t) {
     return luminaire;
 }
 
-// A medium's coefficient per channel, per metre: a number for all three or an array of three,
-// each finite and >= 0; zero when absent.
-std::array<float, 3> readCoefficients(const ScriptTable& t, const std::string& key) {
+// A medium's value per channel (in `unit`): a number for all three or an array of three, each
+// finite and >= 0; zero when absent.
+std::array<float, 3> readChannels(const ScriptTable& t, const std::string& key,
+                                  const std::string& unit) {
     std::array<float, 3> values{};
     if (t.holdsArray(key)) {
         const std::vector<double> given = *t.numbers(key, 3);
@@ -485,16 +487,25 @@ std::array<float, 3> readCoefficients(const ScriptTable& t, const std::string& k
     }
     for (const float value : values) {
         if (!(value >= 0.0f && std::isfinite(value)))
-            throw t.error(key, "expected a number >= 0 (per metre) or an array of three");
+            throw t.error(key, "expected a number >= 0 (" + unit + ") or an array of three");
     }
     return values;
 }
 
-// The [[medium]] table: sigma_a and sigma_s (at least one of them not zero), g, and the box.
+// The [[medium]] table: sigma_a and sigma_s (at least one of them not zero), g, emission, the
+// box and the density file.
 ScriptMedium readMedium(const ScriptTable& t) {
     ScriptMedium medium;
-    medium.sigmaA = readCoefficients(t, "sigma_a");
-    medium.sigmaS = readCoefficients(t, "sigma_s");
+    medium.sigmaA = readChannels(t, "sigma_a", "per metre");
+    medium.sigmaS = readChannels(t, "sigma_s", "per metre");
+    // Emission is tied to absorption (core/medium.h): none where a channel absorbs nothing.
+    medium.emission = readChannels(t, "emission", "cd/m²");
+    for (size_t c = 0; c < 3; ++c) {
+        if (medium.emission[c] > 0.0f && medium.sigmaA[c] == 0.0f)
+            throw t.error("emission",
+                          "a medium emits sigma_a x emission per metre: give sigma_a > 0 in "
+                          "every channel that emits");
+    }
     if (!t.has("sigma_a") && !t.has("sigma_s"))
         throw t.error("sigma_s", "missing: a medium needs sigma_a or sigma_s (per metre)");
     medium.g = t.get<float>("g", 0.0f);
@@ -509,6 +520,17 @@ ScriptMedium readMedium(const ScriptTable& t) {
         }
         medium.box =
             std::array<double, 6>{(*box)[0], (*box)[1], (*box)[2], (*box)[3], (*box)[4], (*box)[5]};
+    }
+    if (const std::optional<std::string> file = t.find<std::string>("density")) {
+        const std::string path = resolve(t.file(), *file);
+        if (std::filesystem::path(path).extension() != ".vdb")
+            throw t.error("density", "expected an OpenVDB file (.vdb), got \"" + *file + "\"");
+        if (!std::filesystem::is_regular_file(path))
+            throw t.error("density", "file not found: " + path);
+        medium.densityFile = path;
+        medium.densityGrid = t.get<std::string>("density_grid", "");
+    } else if (t.has("density_grid")) {
+        throw t.error("density_grid", "names a grid of the density file, and there is none");
     }
     return medium;
 }

@@ -111,10 +111,15 @@ struct ScriptLuminaire {
 // The [[medium]] table: a homogeneous participating medium (core/medium.h) placed by the script.
 struct ScriptMedium {
     std::array<float, 3> sigmaA{}, sigmaS{};  // per metre, per channel
+    std::array<float, 3> emission{};          // cd/m², per channel; zero where sigmaA is
     float g = 0.0f;                           // in (-1, 1)
     // [x0, y0, z0, x1, y1, z1], metres, the glTF file's world frame, lo < hi on every axis;
     // nothing: the scene's bounding box.
     std::optional<std::array<double, 6>> box;
+    // An OpenVDB file whose float grid scales sigma_a and sigma_s (resolved against the script's
+    // folder; it exists), and the grid's name (empty: the file's only grid, or "density").
+    std::optional<std::string> densityFile;
+    std::string densityGrid;
 };
 
 // One [[pass]] table: its type and its parameters (`type` already read).

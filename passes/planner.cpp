@@ -125,10 +125,11 @@ PipelinePlan planForScene(Pipeline& pipeline, const SceneContents& contents) {
                     : vertices.size() == 1 ? "L" + vertices.front() + "*E"
                                            : "L(" + joined(vertices, "|") + ")*E";
 
-    if (contents.areaLights + contents.punctualLights == 0 && !contents.environment) {
+    if (contents.areaLights + contents.punctualLights == 0 && !contents.environment &&
+        !contents.mediumEmits) {
         plan.warnings.push_back(
             "the scene has no light (no emissive surface, no "
-            "KHR_lights_punctual light, no environment): the image is black");
+            "KHR_lights_punctual light, no environment, no emitting medium): the image is black");
     } else if (contents.areaLights == 0 && !contents.environment) {
         plan.decisions.push_back("lights: " + std::to_string(contents.punctualLights) +
                                  " punctual, no emissive surface: no area sampling");

@@ -234,8 +234,8 @@ Color sampleEquiangularInScattering(const Scene& scene, const PowerLightSampler&
     if (!L)
         return Color(0.0f);
     light = choice->light;
-    const Color T = glm::exp(-segment.medium.sigmaT() * (t - segment.t0));
-    return T * segment.medium.sigmaS() * f * *L *
+    const Color T = segment.medium.transmittance(ray, segment.t0, t);
+    return T * segment.medium.sigmaSAt(point.p) * f * *L *
            (distanceMisWeight(segment, t, ls->pLight, false) / towards->pdf(t));
 }
 

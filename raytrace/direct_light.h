@@ -40,14 +40,14 @@ float environmentPartMisWeight(const Scene& scene, EnvironmentPart part, const V
                                const Vec3& wi, float bsdfPdf);
 
 // A segment of a ray through the scene's participating medium (core/medium.h): the ray's span
-// [t0, t1] in it (HomogeneousMedium::span), on which both its free flight and equiangular
+// [t0, t1] in it (Medium::span), on which both its free flight and equiangular
 // sampling (sampleEquiangularInScattering) draw scattering events.
 struct MediumSegment {
     Ray ray;
     float t0, t1;
-    const HomogeneousMedium& medium;
+    const Medium& medium;
     // The density (per metre) of the free flight's event at ray parameter t.
-    float flightPdf(float t) const { return medium.flightPdf(t - t0); }
+    float flightPdf(float t) const { return medium.flightPdf(ray, t0, t); }
 };
 
 // A scattering event in the medium: the point, the medium's phase function and the direction the
@@ -66,7 +66,7 @@ struct MediumPoint {
 // by the phase function (which is also its own sampling density, against which the light sample
 // is weighted), the shadow ray attenuated by the medium (Scene::transmittance). The in-scattered
 // radiance still to be multiplied by sigma_s, which the free flight's weight holds
-// (HomogeneousMedium::sampleFlight).
+// (Medium::sampleFlight).
 Color sampleDirectLight(const Scene& scene, const MediumPoint& point, Sampler& sampler,
                         PathCounters& counters);
 Color sampleDirectLightFromSet(const Scene& scene, const LightSelection& selection, size_t set,

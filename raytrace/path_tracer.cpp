@@ -72,7 +72,7 @@ PathTracer::PathTracer(const Scene& scene, const PathTracerSettings& settings,
         throw std::logic_error("PathTracer: light groups need a tracer without reuse");
     if (scene_.medium() && (settings_.reuseRadiosity || settings_.excludeCaustics))
         throw std::logic_error("PathTracer: a medium needs a tracer that counts every path");
-    const HomogeneousMedium* medium = scene_.medium();
+    const Medium* medium = scene_.medium();
     if (medium && medium->scatters() && settings_.equiangular) {
         for (const auto& light : scene_.lights())
             equiangular_ = equiangular_ || pointLike(*light);
@@ -268,7 +268,7 @@ PathRadiance PathTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHit,
         }
     };
 
-    const HomogeneousMedium* medium = scene_.medium();
+    const Medium* medium = scene_.medium();
     while (true) {
         ++counters.rays;
         const std::optional<SurfaceHit> hit = scene_.intersect(ray);
@@ -279,8 +279,7 @@ PathRadiance PathTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHit,
         // scattered along the segment.
         const bool inMedium = medium && !(hit && insideSolid(scene_, *hit, ray.d));
         const float tMax = hit ? hit->t : INFINITY;
-        const std::optional<HomogeneousMedium::Span> span =
-            inMedium ? medium->span(ray, tMax) : std::nullopt;
+        const std::optional<Medium::Span> span = inMedium ? medium->span(ray, tMax) : std::nullopt;
         const bool scatterHere = settings_.maxDepth < 0 || depth < settings_.maxDepth;
         const std::optional<MediumSegment> segment =
             span && equiangular_
@@ -288,11 +287,16 @@ PathRadiance PathTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHit,
                 : std::nullopt;
         if (segment && scatterHere)
             addEquiangular(pathComponent(depth + 1, firstVertexSpecular), *segment);
+        // The medium's own emission along the segment, in closed form (Medium::emitted).
+        if (span && medium->emits()) {
+            const Color added = addEmission(medium->emitted(ray, *span), 1.0f);
+            if (groups_)
+                groups_->fileMediumEmission(added, L.groups);
+        }
         if (span) {
             const float uChannel = sampler.get1D();
             const float uDistance = sampler.get1D();
-            const HomogeneousMedium::Flight flight =
-                medium->sampleFlight(*span, uChannel, uDistance);
+            const Medium::Flight flight = medium->sampleFlight(ray, *span, uChannel, uDistance);
             w *= flight.weight;
             if (flight.scattered) {
                 if (!scatterHere)

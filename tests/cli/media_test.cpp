@@ -1,10 +1,12 @@
 // A participating medium through the command line (docs/media.md): a pass script's [[medium]]
-// reaches the render with its box in the glTF file's world frame, and the pipelines that do not
-// render media refuse such a scene with exit status 2 and no image.
+// reaches the render with its box in the glTF file's world frame, its density from an OpenVDB
+// file placed by its box or by the file's own voxel transform, and the pipelines that do not
+// render media refuse such a scene with exit status 2 and no image, as bad tables are refused.
 #include "tests/support/cli_runner.h"
 #include "tests/support/gltf_builder.h"
 
 #include <gtest/gtest.h>
+#include <openvdb/openvdb.h>
 
 #include <cmath>
 #include <filesystem>
@@ -59,6 +61,86 @@ TEST(Media, AScriptsSlabAttenuatesByBeerLambert) {
         EXPECT_NEAR(regionMean(image, c, 0, 0, 8, 8), 3.0 * std::exp(-sigmaA[c] * 1.5), 1e-4 * 3.0)
             << "channel " << c;
     }
+}
+
+// A density of 0.5 in 4 x 4 x 4 voxels, written as a.vdb whose voxel transform puts the voxel
+// centres, with the border of zero around them, from (990, 40, -23.5) to (1010, 60, -22) in the
+// file's frame: kSlab's box. Along z the density is then 0 at the box's faces, 0.5 from one
+// voxel (0.3 m) inside them, linear between: its integral through the slab is 0.5 (1.5 - 0.3).
+void writeDensity(const TempDir& dir) {
+    openvdb::initialize();
+    openvdb::FloatGrid::Ptr grid = openvdb::FloatGrid::create(0.0f);
+    grid->setName("density");
+    grid->fill(openvdb::CoordBBox(openvdb::Coord(0), openvdb::Coord(3)), 0.5f);
+    openvdb::math::Mat4d voxelToWorld(openvdb::math::Mat4d::identity());
+    voxelToWorld.setToScale(openvdb::Vec3d(4.0, 4.0, 0.3));
+    voxelToWorld.setTranslation(openvdb::Vec3d(994.0, 44.0, -23.2));
+    grid->setTransform(openvdb::math::Transform::createLinearTransform(voxelToWorld));
+    openvdb::io::File(dir.file("density.vdb")).write({grid});
+}
+
+TEST(Media, AVdbDensityAttenuatesByItsOpticalDepth) {
+    TempDir dir("media-density");
+    writeScene(dir);
+    writeDensity(dir);
+    const float sigmaA[3] = {0.1f, 0.4f, 1.0f};
+    // Placed by the file's transform, and stretched over the same box by the script.
+    for (const std::string placement : {"", "box = [990, 40, -23.5, 1010, 60, -22]\n"}) {
+        SCOPED_TRACE(placement.empty() ? "the file's placement" : "the script's box");
+        writeScript(
+            dir, "[[pass]]\ntype = \"path\"\n",
+            "[[medium]]\nsigma_a = [0.1, 0.4, 1.0]\ndensity = \"density.vdb\"\n" + placement);
+        const Image image = renderImage(dir.file("scene.toml"), dir.file("density.exr"),
+                                        "--width 8 --height 8 --spp 4");
+        for (int c = 0; c < 3; ++c) {
+            EXPECT_NEAR(regionMean(image, c, 0, 0, 8, 8), 3.0 * std::exp(-sigmaA[c] * 0.6),
+                        1e-4 * 3.0)
+                << "channel " << c;
+        }
+    }
+    const CliResult info = runPenumbra("info " + dir.file("scene.toml"));
+    EXPECT_EQ(info.status, 0) << info.output;
+    EXPECT_NE(info.output.find("scaled by a density grid of 6 x 6 x 6 nodes, at most 0.5"),
+              std::string::npos)
+        << info.output;
+}
+
+TEST(Media, ABadDensityIsRefused) {
+    TempDir dir("media-bad-density");
+    writeScene(dir);
+    writeDensity(dir);
+    const std::string path = "[[pass]]\ntype = \"path\"\n";
+    writeScript(dir, path, "[[medium]]\nsigma_a = 0.1\ndensity = \"missing.vdb\"\n");
+    expectRefused(dir, "scene.toml:6:11: medium[0].density: file not found");
+    writeScript(dir, path, "[[medium]]\nsigma_a = 0.1\ndensity = \"panel.gltf\"\n");
+    expectRefused(dir, "medium[0].density: expected an OpenVDB file (.vdb)");
+    writeScript(dir, path, "[[medium]]\nsigma_a = 0.1\ndensity_grid = \"smoke\"\n");
+    expectRefused(dir, "medium[0].density_grid: names a grid of the density file");
+    writeScript(dir, path,
+                "[[medium]]\nsigma_a = 0.1\ndensity = \"density.vdb\"\ndensity_grid = \"smoke\"\n");
+    expectRefused(dir, "density.vdb: no grid \"smoke\" (the file holds \"density\")");
+}
+
+// The slab glowing: what it emits along the 1.5 m, Le (1 - exp(-sigma_a 1.5)), adds to what it
+// lets through of the panel.
+TEST(Media, AGlowingSlabAddsItsEmission) {
+    TempDir dir("media-glow");
+    writeScene(dir);
+    writeScript(dir, "[[pass]]\ntype = \"path\"\n", kSlab + "emission = [1.0, 2.0, 0.5]\n");
+    const Image image =
+        renderImage(dir.file("scene.toml"), dir.file("glow.exr"), "--width 8 --height 8 --spp 4");
+    const float sigmaA[3] = {0.1f, 0.4f, 1.0f}, Le[3] = {1.0f, 2.0f, 0.5f};
+    for (int c = 0; c < 3; ++c) {
+        const double T = std::exp(-sigmaA[c] * 1.5);
+        EXPECT_NEAR(regionMean(image, c, 0, 0, 8, 8), 3.0 * T + Le[c] * (1.0 - T), 1e-4 * 3.0)
+            << "channel " << c;
+    }
+    const CliResult info = runPenumbra("info " + dir.file("scene.toml"));
+    EXPECT_NE(info.output.find("emitting (1, 2, 0.5) cd/m²"), std::string::npos) << info.output;
+    // Emission without absorption in a channel is refused.
+    writeScript(dir, "[[pass]]\ntype = \"path\"\n",
+                "[[medium]]\nsigma_a = [0.1, 0.0, 0.1]\nemission = 1.0\n");
+    expectRefused(dir, "scene.toml:6:12: medium[0].emission: a medium emits sigma_a x emission");
 }
 
 TEST(Media, PipelinesWithoutMediaRefuseTheScene) {

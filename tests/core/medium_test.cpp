@@ -102,8 +102,8 @@ const MediumDesc kChromatic{.name = "test",
                             .box = std::nullopt};
 const Bounds3 kBox{Vec3(-1.0f), Vec3(1.0f)};
 
-TEST(HomogeneousMedium, SpanIsWhereTheRayIsInTheBox) {
-    const HomogeneousMedium medium(kChromatic, kBox);
+TEST(Medium, SpanIsWhereTheRayIsInTheBox) {
+    const Medium medium(kChromatic, kBox);
     // From outside, through the box along x: in it from t = 2 to t = 4.
     auto s = medium.span(Ray{Vec3(-3.0f, 0.0f, 0.0f), Vec3(1.0f, 0.0f, 0.0f)}, INFINITY);
     ASSERT_TRUE(s.has_value());
@@ -126,8 +126,8 @@ TEST(HomogeneousMedium, SpanIsWhereTheRayIsInTheBox) {
                              INFINITY));
 }
 
-TEST(HomogeneousMedium, TransmittanceIsBeerLambert) {
-    const HomogeneousMedium medium(kChromatic, kBox);
+TEST(Medium, TransmittanceIsBeerLambert) {
+    const Medium medium(kChromatic, kBox);
     // A diagonal through the box, from outside: inside for 2 sqrt(3) m.
     const Vec3 d = glm::normalize(Vec3(1.0f));
     const Color T = medium.transmittance(Ray{Vec3(-2.0f), d}, INFINITY);
@@ -136,11 +136,32 @@ TEST(HomogeneousMedium, TransmittanceIsBeerLambert) {
         EXPECT_NEAR(T[c], std::exp(-medium.sigmaT()[c] * length), 1e-5f) << "channel " << c;
 }
 
+// A glowing medium's emission along a span of length L, per channel: the integral of
+// exp(-sigma_t s) sigma_a Le over [0, L], Le sigma_a / sigma_t (1 - exp(-sigma_t L)); nothing
+// in the clear channel, whose sigma_a is zero.
+TEST(Medium, EmissionAlongASpanIsTheTransferEquationsIntegral) {
+    MediumDesc glowing = kChromatic;
+    glowing.emission = Color(2.0f, 3.0f, 0.0f);
+    const Medium medium(glowing, kBox);
+    EXPECT_TRUE(medium.emits());
+    EXPECT_FALSE(Medium(kChromatic, kBox).emits());
+    const Ray ray{Vec3(-1.0f, 0.2f, 0.3f), Vec3(1.0f, 0.0f, 0.0f)};
+    const Color L = medium.emitted(ray, Medium::Span{0.5f, 2.0f});
+    const Color sigmaA = kChromatic.sigmaA;
+    for (int c = 0; c < 2; ++c) {
+        const double sigmaT = medium.sigmaT()[c];
+        EXPECT_NEAR(
+            L[c], glowing.emission[c] * sigmaA[c] / sigmaT * (1.0 - std::exp(-sigmaT * 1.5)), 1e-6)
+            << "channel " << c;
+    }
+    EXPECT_EQ(L[2], 0.0f);
+}
+
 // The free flight's estimates over a span of d = 2 m, in a medium whose channels have sigma_t
 // 0.5, 1 and 0 (clear): the light that passes has expectation T(d), the scattered light weighed
 // by h(s) = 1 and h(s) = s the closed-form integrals of T(s) sigma_s h(s) over [0, d].
-TEST(HomogeneousMedium, FreeFlightWeightsHaveTheTransferEquationsExpectations) {
-    const HomogeneousMedium medium(kChromatic, kBox);
+TEST(Medium, FreeFlightWeightsHaveTheTransferEquationsExpectations) {
+    const Medium medium(kChromatic, kBox);
     const Ray ray{Vec3(-1.0f, 0.2f, 0.3f), Vec3(1.0f, 0.0f, 0.0f)};
     constexpr double kD = 2.0;
     constexpr int kSamples = 400000;
@@ -148,8 +169,8 @@ TEST(HomogeneousMedium, FreeFlightWeightsHaveTheTransferEquationsExpectations) {
     std::uniform_real_distribution<float> uniform(0.0f, 1.0f);
     std::array<Estimate, 3> passed, scattered, scatteredAtS;
     for (int i = 0; i < kSamples; ++i) {
-        const HomogeneousMedium::Flight flight =
-            medium.sampleFlight(*medium.span(ray, INFINITY), uniform(random), uniform(random));
+        const Medium::Flight flight =
+            medium.sampleFlight(ray, *medium.span(ray, INFINITY), uniform(random), uniform(random));
         for (int c = 0; c < 3; ++c) {
             passed[c].add(flight.scattered ? 0.0 : flight.weight[c]);
             scattered[c].add(flight.scattered ? flight.weight[c] : 0.0);
@@ -172,9 +193,9 @@ TEST(HomogeneousMedium, FreeFlightWeightsHaveTheTransferEquationsExpectations) {
     // A medium that only absorbs draws no event: the weight is the transmittance itself.
     MediumDesc absorbing = kChromatic;
     absorbing.sigmaS = Color(0.0f);
-    const HomogeneousMedium absorber(absorbing, kBox);
-    const HomogeneousMedium::Flight flight =
-        absorber.sampleFlight(*absorber.span(ray, INFINITY), 0.5f, 0.5f);
+    const Medium absorber(absorbing, kBox);
+    const Medium::Flight flight =
+        absorber.sampleFlight(ray, *absorber.span(ray, INFINITY), 0.5f, 0.5f);
     EXPECT_FALSE(flight.scattered);
     EXPECT_NEAR(flight.weight[0], std::exp(-0.2 * kD), 1e-6);
     EXPECT_EQ(flight.weight[1], 1.0f);

@@ -215,7 +215,7 @@ TEST_F(PassScriptTest, OutOfRange) {
 }
 
 // The [[medium]] table: each coefficient a number for all channels or one per channel, the
-// phase function's g, the box; every bad value refused at its place.
+// phase function's g, the box, the density file; every bad value refused at its place.
 TEST_F(PassScriptTest, MediumTable) {
     const PassScript script = loadPassScript(write(kScene + kPath +
                                                    "[[medium]]\n"
@@ -234,7 +234,16 @@ TEST_F(PassScriptTest, MediumTable) {
     EXPECT_EQ(fog.medium->sigmaA, (std::array<float, 3>{0.0f, 0.0f, 0.0f}));
     EXPECT_EQ(fog.medium->g, 0.0f);
     EXPECT_FALSE(fog.medium->box.has_value());
+    EXPECT_FALSE(fog.medium->densityFile.has_value());
     EXPECT_FALSE(loadPassScript(write(kScene + kPath)).medium.has_value());
+    // A density file, relative to the script, and its grid's name (read later, by the loader).
+    writeText(dir_.file("smoke.vdb"), "");
+    const PassScript smoke = loadPassScript(
+        write(kScene + kPath +
+              "[[medium]]\nsigma_s = 3\ndensity = \"smoke.vdb\"\ndensity_grid = \"d\"\n"));
+    ASSERT_TRUE(smoke.medium.has_value());
+    EXPECT_EQ(fs::path(*smoke.medium->densityFile), fs::path(dir_.file("smoke.vdb")));
+    EXPECT_EQ(smoke.medium->densityGrid, "d");
 
     const std::string medium = kScene + kPath + "[[medium]]\n";
     EXPECT_EQ(firstLine(error(medium + "g = 0.5\n")),
@@ -248,8 +257,10 @@ TEST_F(PassScriptTest, MediumTable) {
     EXPECT_EQ(firstLine(error(medium + "sigma_s = 1\nbox = [0, 0, 0, 1, -1, 1]\n")),
               "6:7: medium[0].box: expected [x0, y0, z0, x1, y1, z1] with x0 < x1, y0 < y1 and "
               "z0 < z1");
+    EXPECT_EQ(firstLine(error(medium + "sigma_s = 1\ndensty = 2\n")).substr(0, 39),
+              "6:1: medium[0].densty: unknown key; val");
     EXPECT_EQ(firstLine(error(medium + "sigma_s = 1\ndensity = 2\n")).substr(0, 40),
-              "6:1: medium[0].density: unknown key; val");
+              "6:11: medium[0].density: expected a stri");
     EXPECT_EQ(firstLine(error(medium + "sigma_s = 1\n[[medium]]\nsigma_s = 2\n")),
               "6:1: medium[1]: a second [[medium]]: penumbra renders one medium for now");
 }

@@ -1,0 +1,127 @@
+#include "core/density_grid.h"
+
+#include <algorithm>
+#include <cmath>
+#include <utility>
+
+namespace penumbra {
+
+DensityGrid::DensityGrid(const Bounds3& box, const glm::ivec3& nodes, std::vector<float> values)
+    : box_(box),
+      nodes_(nodes),
+      cellSize_(box.diagonal() / Vec3(nodes - 1)),
+      values_(std::move(values)) {
+    for (float v : values_)
+        maxValue_ = std::max(maxValue_, v);
+}
+
+float DensityGrid::at(const Vec3& p) const {
+    const Vec3 g = (p - box_.lo) / cellSize_;
+    if (!(g.x >= 0.0f && g.y >= 0.0f && g.z >= 0.0f) ||
+        !(g.x <= float(nodes_.x - 1) && g.y <= float(nodes_.y - 1) && g.z <= float(nodes_.z - 1)))
+        return 0.0f;
+    // The cell holding p (the last cell for a point on the far faces) and p's place in it.
+    const glm::ivec3 c = glm::min(glm::ivec3(g), nodes_ - 2);
+    const Vec3 f = g - Vec3(c);
+    const auto lerp = [](float a, float b, float s) { return a + s * (b - a); };
+    const auto edge = [&](int y, int z) {
+        return lerp(node(c.x, c.y + y, c.z + z), node(c.x + 1, c.y + y, c.z + z), f.x);
+    };
+    return lerp(lerp(edge(0, 0), edge(1, 0), f.y), lerp(edge(0, 1), edge(1, 1), f.y), f.z);
+}
+
+float DensityGrid::cellIntegral(const Ray& ray, float ta, float tb) const {
+    // Two-point Gauss-Legendre: nodes at the midpoint -+ half / sqrt(3), weights half each.
+    const float mid = 0.5f * (ta + tb), half = 0.5f * (tb - ta);
+    const float offset = half * 0.57735026919f;
+    return half * (at(ray.o + (mid - offset) * ray.d) + at(ray.o + (mid + offset) * ray.d));
+}
+
+template <typename Visit>
+void DensityGrid::forEachCell(const Ray& ray, float t0, float t1, Visit&& visit) const {
+    // The cell of the segment's midpoint-side start, then the parameters at which the ray crosses
+    // the next lattice plane on each axis.
+    const Vec3 g = (ray.o + t0 * ray.d - box_.lo) / cellSize_;
+    glm::ivec3 cell = glm::clamp(glm::ivec3(glm::floor(g)), glm::ivec3(0), nodes_ - 2);
+    Vec3 tNext, tStep;
+    glm::ivec3 step;
+    for (int axis = 0; axis < 3; ++axis) {
+        const float d = ray.d[axis];
+        if (d > 0.0f) {
+            step[axis] = 1;
+            tStep[axis] = cellSize_[axis] / d;
+            tNext[axis] =
+                (box_.lo[axis] + float(cell[axis] + 1) * cellSize_[axis] - ray.o[axis]) / d;
+        } else if (d < 0.0f) {
+            step[axis] = -1;
+            tStep[axis] = -cellSize_[axis] / d;
+            tNext[axis] = (box_.lo[axis] + float(cell[axis]) * cellSize_[axis] - ray.o[axis]) / d;
+        } else {
+            step[axis] = 0;
+            tStep[axis] = INFINITY;
+            tNext[axis] = INFINITY;
+        }
+    }
+    float t = t0;
+    while (t < t1) {
+        const int axis =
+            tNext.x < tNext.y ? (tNext.x < tNext.z ? 0 : 2) : (tNext.y < tNext.z ? 1 : 2);
+        // Rounding may put the first crossing a hair before t: the piece is then empty.
+        const float end = std::max(t, std::min(tNext[axis], t1));
+        if (!visit(t, end))
+            return;
+        t = end;
+        cell[axis] += step[axis];
+        if (cell[axis] < 0 || cell[axis] > nodes_[axis] - 2)
+            return;
+        tNext[axis] += tStep[axis];
+    }
+}
+
+float DensityGrid::integral(const Ray& ray, float t0, float t1) const {
+    float sum = 0.0f;
+    forEachCell(ray, t0, t1, [&](float ta, float tb) {
+        sum += cellIntegral(ray, ta, tb);
+        return true;
+    });
+    return sum;
+}
+
+std::optional<float> DensityGrid::invertIntegral(const Ray& ray, float t0, float t1,
+                                                 float target) const {
+    std::optional<float> found;
+    float remaining = target;
+    forEachCell(ray, t0, t1, [&](float ta, float tb) {
+        const float piece = cellIntegral(ray, ta, tb);
+        if (piece < remaining) {
+            remaining -= piece;
+            return true;
+        }
+        if (!(remaining > 0.0f)) {
+            found = ta;
+            return false;
+        }
+        // Within this cell F(t) = integral from ta to t is a monotone quartic: Newton's method on
+        // F(t) = remaining, kept inside the bracket [lo, hi] by bisection where a step leaves it
+        // (Press et al., "Numerical Recipes", 3rd ed., section 9.4, rtsafe).
+        float lo = ta, hi = tb;
+        float t = ta + (tb - ta) * (remaining / piece);
+        for (int iteration = 0; iteration < 32; ++iteration) {
+            const float error = cellIntegral(ray, ta, t) - remaining;
+            if (error > 0.0f)
+                hi = t;
+            else
+                lo = t;
+            if (std::abs(error) <= 1e-6f * piece || hi - lo <= 1e-7f * (std::abs(t) + 1.0f))
+                break;
+            const float slope = at(ray.o + t * ray.d);
+            const float newton = slope > 0.0f ? t - error / slope : NAN;
+            t = (newton > lo && newton < hi) ? newton : 0.5f * (lo + hi);
+        }
+        found = t;
+        return false;
+    });
+    return found;
+}
+
+}  // namespace penumbra
