@@ -10,9 +10,36 @@ DensityGrid::DensityGrid(const Bounds3& box, const glm::ivec3& nodes, std::vecto
     : box_(box),
       nodes_(nodes),
       cellSize_(box.diagonal() / Vec3(nodes - 1)),
-      values_(std::move(values)) {
+      values_(std::move(values)),
+      emptyCells_(values_.size(), false) {
     for (float v : values_)
         maxValue_ = std::max(maxValue_, v);
+    for (int z = 0; z + 1 < nodes_.z; ++z)
+        for (int y = 0; y + 1 < nodes_.y; ++y)
+            for (int x = 0; x + 1 < nodes_.x; ++x) {
+                const Cell c = cellAt({x, y, z});
+                emptyCells_[index(x, y, z)] = std::all_of(
+                    std::begin(c.corners), std::end(c.corners), [](float v) { return v == 0.0f; });
+            }
+}
+
+DensityGrid::Cell DensityGrid::cellAt(const glm::ivec3& index) const {
+    Cell c{index, {}};
+    for (int k = 0; k < 8; ++k)
+        c.corners[k] = node(index.x + (k & 1), index.y + ((k >> 1) & 1), index.z + (k >> 2));
+    return c;
+}
+
+float DensityGrid::Cell::at(const Vec3& g) const {
+    // p's place in the cell, clamped: a point rounding put a hair outside it keeps the
+    // cell's values.
+    const Vec3 f = glm::clamp(g - Vec3(index), Vec3(0.0f), Vec3(1.0f));
+    const auto lerp = [](float a, float b, float s) { return a + s * (b - a); };
+    const float y0 =
+        lerp(lerp(corners[0], corners[1], f.x), lerp(corners[2], corners[3], f.x), f.y);
+    const float y1 =
+        lerp(lerp(corners[4], corners[5], f.x), lerp(corners[6], corners[7], f.x), f.y);
+    return lerp(y0, y1, f.z);
 }
 
 float DensityGrid::at(const Vec3& p) const {
@@ -20,21 +47,15 @@ float DensityGrid::at(const Vec3& p) const {
     if (!(g.x >= 0.0f && g.y >= 0.0f && g.z >= 0.0f) ||
         !(g.x <= float(nodes_.x - 1) && g.y <= float(nodes_.y - 1) && g.z <= float(nodes_.z - 1)))
         return 0.0f;
-    // The cell holding p (the last cell for a point on the far faces) and p's place in it.
-    const glm::ivec3 c = glm::min(glm::ivec3(g), nodes_ - 2);
-    const Vec3 f = g - Vec3(c);
-    const auto lerp = [](float a, float b, float s) { return a + s * (b - a); };
-    const auto edge = [&](int y, int z) {
-        return lerp(node(c.x, c.y + y, c.z + z), node(c.x + 1, c.y + y, c.z + z), f.x);
-    };
-    return lerp(lerp(edge(0, 0), edge(1, 0), f.y), lerp(edge(0, 1), edge(1, 1), f.y), f.z);
+    // The cell holding p (the last cell for a point on the far faces).
+    return cellAt(glm::min(glm::ivec3(g), nodes_ - 2)).at(g);
 }
 
-float DensityGrid::cellIntegral(const Ray& ray, float ta, float tb) const {
+float DensityGrid::cellIntegral(const Ray& ray, float ta, float tb, const Cell& cell) const {
     // Two-point Gauss-Legendre: nodes at the midpoint -+ half / sqrt(3), weights half each.
     const float mid = 0.5f * (ta + tb), half = 0.5f * (tb - ta);
     const float offset = half * 0.57735026919f;
-    return half * (at(ray.o + (mid - offset) * ray.d) + at(ray.o + (mid + offset) * ray.d));
+    return half * (cell.at(gridPoint(ray, mid - offset)) + cell.at(gridPoint(ray, mid + offset)));
 }
 
 template <typename Visit>
@@ -42,7 +63,7 @@ void DensityGrid::forEachCell(const Ray& ray, float t0, float t1, Visit&& visit)
     // The cell of the segment's midpoint-side start, then the parameters at which the ray crosses
     // the next lattice plane on each axis.
     const Vec3 g = (ray.o + t0 * ray.d - box_.lo) / cellSize_;
-    glm::ivec3 cell = glm::clamp(glm::ivec3(glm::floor(g)), glm::ivec3(0), nodes_ - 2);
+    glm::ivec3 current = glm::clamp(glm::ivec3(glm::floor(g)), glm::ivec3(0), nodes_ - 2);
     Vec3 tNext, tStep;
     glm::ivec3 step;
     for (int axis = 0; axis < 3; ++axis) {
@@ -51,11 +72,12 @@ void DensityGrid::forEachCell(const Ray& ray, float t0, float t1, Visit&& visit)
             step[axis] = 1;
             tStep[axis] = cellSize_[axis] / d;
             tNext[axis] =
-                (box_.lo[axis] + float(cell[axis] + 1) * cellSize_[axis] - ray.o[axis]) / d;
+                (box_.lo[axis] + float(current[axis] + 1) * cellSize_[axis] - ray.o[axis]) / d;
         } else if (d < 0.0f) {
             step[axis] = -1;
             tStep[axis] = -cellSize_[axis] / d;
-            tNext[axis] = (box_.lo[axis] + float(cell[axis]) * cellSize_[axis] - ray.o[axis]) / d;
+            tNext[axis] =
+                (box_.lo[axis] + float(current[axis]) * cellSize_[axis] - ray.o[axis]) / d;
         } else {
             step[axis] = 0;
             tStep[axis] = INFINITY;
@@ -68,11 +90,11 @@ void DensityGrid::forEachCell(const Ray& ray, float t0, float t1, Visit&& visit)
             tNext.x < tNext.y ? (tNext.x < tNext.z ? 0 : 2) : (tNext.y < tNext.z ? 1 : 2);
         // Rounding may put the first crossing a hair before t: the piece is then empty.
         const float end = std::max(t, std::min(tNext[axis], t1));
-        if (!visit(t, end))
+        if (!emptyCells_[index(current.x, current.y, current.z)] && !visit(t, end, cellAt(current)))
             return;
         t = end;
-        cell[axis] += step[axis];
-        if (cell[axis] < 0 || cell[axis] > nodes_[axis] - 2)
+        current[axis] += step[axis];
+        if (current[axis] < 0 || current[axis] > nodes_[axis] - 2)
             return;
         tNext[axis] += tStep[axis];
     }
@@ -80,8 +102,8 @@ void DensityGrid::forEachCell(const Ray& ray, float t0, float t1, Visit&& visit)
 
 float DensityGrid::integral(const Ray& ray, float t0, float t1) const {
     float sum = 0.0f;
-    forEachCell(ray, t0, t1, [&](float ta, float tb) {
-        sum += cellIntegral(ray, ta, tb);
+    forEachCell(ray, t0, t1, [&](float ta, float tb, const Cell& cell) {
+        sum += cellIntegral(ray, ta, tb, cell);
         return true;
     });
     return sum;
@@ -91,8 +113,8 @@ std::optional<float> DensityGrid::invertIntegral(const Ray& ray, float t0, float
                                                  float target) const {
     std::optional<float> found;
     float remaining = target;
-    forEachCell(ray, t0, t1, [&](float ta, float tb) {
-        const float piece = cellIntegral(ray, ta, tb);
+    forEachCell(ray, t0, t1, [&](float ta, float tb, const Cell& cell) {
+        const float piece = cellIntegral(ray, ta, tb, cell);
         if (piece < remaining) {
             remaining -= piece;
             return true;
@@ -107,14 +129,14 @@ std::optional<float> DensityGrid::invertIntegral(const Ray& ray, float t0, float
         float lo = ta, hi = tb;
         float t = ta + (tb - ta) * (remaining / piece);
         for (int iteration = 0; iteration < 32; ++iteration) {
-            const float error = cellIntegral(ray, ta, t) - remaining;
+            const float error = cellIntegral(ray, ta, t, cell) - remaining;
             if (error > 0.0f)
                 hi = t;
             else
                 lo = t;
             if (std::abs(error) <= 1e-6f * piece || hi - lo <= 1e-7f * (std::abs(t) + 1.0f))
                 break;
-            const float slope = at(ray.o + t * ray.d);
+            const float slope = cell.at(gridPoint(ray, t));
             const float newton = slope > 0.0f ? t - error / slope : NAN;
             t = (newton > lo && newton < hi) ? newton : 0.5f * (lo + hi);
         }

@@ -49,17 +49,30 @@ class DensityGrid {
     size_t index(int x, int y, int z) const {
         return (size_t(z) * size_t(nodes_.y) + size_t(y)) * size_t(nodes_.x) + size_t(x);
     }
-    // Calls visit(ta, tb) for each piece [ta, tb] of [t0, t1] inside one lattice cell, in order,
-    // until visit returns false (a 3-D DDA: Amanatides and Woo 1987).
+    // The eight node values of one cell, and the density at a point given in the grid's
+    // coordinates (node units), trilinear in that cell.
+    struct Cell {
+        glm::ivec3 index;
+        float corners[8];  // x fastest, then y, then z
+        float at(const Vec3& g) const;
+    };
+    Cell cellAt(const glm::ivec3& index) const;
+    // Calls visit(ta, tb, cell) for each piece [ta, tb] of [t0, t1] inside one lattice cell, in
+    // order, until visit returns false (a 3-D DDA: Amanatides and Woo 1987); cells whose nodes
+    // are all zero are stepped over without a call.
     template <typename Visit>
     void forEachCell(const Ray& ray, float t0, float t1, Visit&& visit) const;
     // The exact integral over a piece within one cell (the Gauss-Legendre rule of the header).
-    float cellIntegral(const Ray& ray, float ta, float tb) const;
+    float cellIntegral(const Ray& ray, float ta, float tb, const Cell& cell) const;
+    Vec3 gridPoint(const Ray& ray, float t) const {
+        return (ray.o + t * ray.d - box_.lo) / cellSize_;
+    }
 
     Bounds3 box_;
     glm::ivec3 nodes_;
     Vec3 cellSize_;
     std::vector<float> values_;
+    std::vector<bool> emptyCells_;  // per cell, indexed as the nodes: all eight nodes zero
     float maxValue_ = 0.0f;
 };
 

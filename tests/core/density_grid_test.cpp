@@ -113,6 +113,38 @@ TEST(DensityGrid, IntegralAlongARayIsExact) {
     }
 }
 
+// A sparse grid (nonzero nodes only in a 3 x 3 x 3 block of a 12^3 lattice, as a VDB's active
+// voxels in their bounding box): the cells whose nodes are all zero are stepped over, and the
+// integral and its inverse still match Simpson's rule on the interpolated density.
+TEST(DensityGrid, EmptyCellsAreSteppedOver) {
+    const glm::ivec3 nodes(12);
+    std::vector<float> values;
+    for (int z = 0; z < nodes.z; ++z)
+        for (int y = 0; y < nodes.y; ++y)
+            for (int x = 0; x < nodes.x; ++x) {
+                const bool inBlock = x >= 5 && x <= 7 && y >= 4 && y <= 6 && z >= 5 && z <= 7;
+                values.push_back(inBlock ? float(1 + x + 2 * y + 3 * z) : 0.0f);
+            }
+    const DensityGrid grid(kBox, nodes, values);
+    const auto interpolated = [&](const Vec3& p) { return double(grid.at(p)); };
+    std::mt19937_64 random(37);
+    std::uniform_real_distribution<float> uniform(0.0f, 1.0f);
+    int crossing = 0;
+    for (const Chord& c : chords(300, 41)) {
+        const double exact = simpson(interpolated, c.ray, c.t0, c.t1, 20000);
+        EXPECT_NEAR(grid.integral(c.ray, c.t0, c.t1), exact, 1e-4 * exact + 1e-6);
+        if (exact <= 0.0)
+            continue;
+        ++crossing;
+        const float target = float(exact) * uniform(random);
+        const std::optional<float> t = grid.invertIntegral(c.ray, c.t0, c.t1, target);
+        ASSERT_TRUE(t);
+        EXPECT_NEAR(simpson(interpolated, c.ray, c.t0, *t, 20000), target, 1e-4 * exact);
+    }
+    // Enough chords meet the block to mean something.
+    EXPECT_GT(crossing, 30);
+}
+
 TEST(DensityGrid, InverseFindsWhereTheIntegralReachesTheTarget) {
     const auto grid = sampledGrid(kBox, {5, 7, 4}, trilinear);
     std::mt19937_64 random(5);
