@@ -15,6 +15,13 @@ Color volumeAttenuation(const Scene& scene, const SurfaceHit& hit, const Vec3& d
     return glm::exp(-scene.material(hit).absorption() * hit.t);
 }
 
+Color segmentAttenuation(const Scene& scene, const Ray& ray, const SurfaceHit* hit) {
+    if (hit && insideSolid(scene, *hit, ray.d))
+        return volumeAttenuation(scene, *hit, ray.d);
+    const Medium* medium = scene.medium();
+    return medium ? medium->transmittance(ray, hit ? hit->t : INFINITY) : Color(1.0f);
+}
+
 StraightThrough chooseStraightThrough(const Scene& scene, const SurfaceHit& hit, const Bsdf& bsdf,
                                       const Vec3& wo, Sampler& sampler) {
     const Color through = scene.straightTransmittance(hit, bsdf, wo);

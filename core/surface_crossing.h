@@ -19,6 +19,11 @@ bool insideSolid(const Scene& scene, const SurfaceHit& hit, const Vec3& directio
 // Beer-Lambert attenuation exp(-sigma t) of a segment inside a volume material (insideSolid).
 Color volumeAttenuation(const Scene& scene, const SurfaceHit& hit, const Vec3& direction);
 
+// The attenuation of a whole segment of `ray` (unit direction), from its origin to `hit` or out
+// of the scene (hit null): a solid's own absorption inside it (volumeAttenuation), else the
+// participating medium's transmittance over the segment's part in its box (core/medium.h).
+Color segmentAttenuation(const Scene& scene, const Ray& ray, const SurfaceHit* hit);
+
 // Straight-through transparency: the ray continues unchanged with probability q = min(max
 // transmittance, 1), else the surface scatters; either branch is reweighted by its probability,
 // so the choice is unbiased. A uniform sample is drawn only when the surface transmits.

@@ -26,6 +26,7 @@ void whittedKeys(Settings& s, Ambient& ambient, Keys& keys) {
     distributionKeys(s, keys);
     keys.orWord("ambient", ambient, "radiosity", kAmbientFromSolution, 0.0f,
                 std::numeric_limits<float>::max());
+    keys("medium_steps", s.mediumSteps, 1, 1024);
 }
 
 }  // namespace

@@ -36,12 +36,17 @@ class DistributionPass : public SamplingPass {
         return ambient_ == Ambient::Radiosity ? "distribution" : "whitted";
     }
     // The user's ambient constant stands for no light path: the plan names L D D+ as missing. The
-    // radiosity solution's mean stands, crudely, for the indirect light it averages.
+    // radiosity solution's mean stands, crudely, for the indirect light it averages. Whitted's
+    // pass previews a medium: its single scattering of the lights (L V S* E).
     std::string lightPaths() const override {
         return ambient_ == Ambient::Constant
-                   ? "L S* E | L D S* E"
+                   ? "L S* E | L D S* E | L V S* E"
                    : distributionLightPaths(causticsInRadiosity_, specularTransfer_);
     }
+    // Whitted's pass with a constant ambient term attenuates every ray by the medium and adds its
+    // single scattering (DistributionSettings::mediumSteps); the radiosity solution, which the
+    // other forms take, has no medium yet.
+    bool rendersMedia() const override { return ambient_ == Ambient::Constant; }
     // Without the solution (a solve abandoned because it would not end within the time limit)
     // the pass traces the indirect light: makeEstimator().
     TransportFlags transportFlags() const override {

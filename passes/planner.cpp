@@ -145,9 +145,10 @@ PipelinePlan planForScene(Pipeline& pipeline, const SceneContents& contents) {
     for (size_t i = 0; i < passes.size(); ++i) {
         if (contents.medium && skipReasons[i].empty() && !passes[i]->rendersMedia()) {
             throw UsageError(pipeline.name() + ": " + passName(i, *passes[i]) +
-                             " does not render participating media, and the scene has one: only "
-                             "the path tracer does so far (--pipeline reference, or a `path` pass "
-                             "without `radiosity = true` and without a `caustics` pass)");
+                             " does not render participating media, and the scene has one: the "
+                             "path tracer does (--pipeline reference, or a `path` pass without "
+                             "`radiosity = true` and without a `caustics` pass), and Whitted's "
+                             "pass previews their single scattering (--pipeline whitted)");
         }
     }
     // The passes that run are fitted to each other again (a path pass counts the caustics

@@ -144,6 +144,35 @@ std::optional<Color> incidentEnvironmentPart(const Scene& scene, EnvironmentPart
                          reflects);
 }
 
+// The emission that a direction sampled at `ctx` with density `pdf` reaches along `ray`
+// (through straight-through surfaces, attenuated by solids and the medium on the way), times
+// `beta` and weighted by the power heuristic against light sampling from ctx (Veach 1997,
+// Eq. 9.13): the scattering sample's half of estimateDirectLight and estimateInScattering.
+Color sampledEmission(const Scene& scene, const LightSampleContext& ctx, Ray ray, float pdf,
+                      Color beta, Sampler& sampler, PathCounters& counters) {
+    const Vec3 wi = ray.d;
+    while (maxComponent(beta) > 0.0f) {
+        ++counters.rays;
+        const std::optional<SurfaceHit> next = scene.intersect(ray);
+        beta *= segmentAttenuation(scene, ray, next ? &*next : nullptr);
+        if (!next)
+            return beta * scene.escaped(wi) * escapedMisWeight(scene, ctx.p, wi, pdf);
+        const Bsdf nextBsdf = scene.bsdf(*next);
+        const StraightThrough straight =
+            chooseStraightThrough(scene, *next, nextBsdf, -ray.d, sampler);
+        beta *= straight.weight;
+        if (straight.passes) {
+            ray = Scene::spawnRay(*next, ray.d);
+            continue;
+        }
+        const Color Le = scene.emitted(*next, -ray.d);
+        if (scene.lightIndex(*next) < 0 || maxComponent(Le) <= 0.0f)
+            break;
+        return beta * Le * emissionMisWeight(scene, ctx, wi, *next, pdf);
+    }
+    return Color(0.0f);
+}
+
 }  // namespace
 
 Color sampleDirectLight(const Scene& scene, const SurfaceHit& hit, const Bsdf& bsdf, const Vec3& wo,
@@ -300,32 +329,20 @@ Color estimateDirectLight(const Scene& scene, const SurfaceHit& hit, const Bsdf&
     // A delta lobe is the caller's to follow (the specular chain).
     if (!bs || bs->isDelta() || !(bs->pdf > 0.0f))
         return fromLight;
-    Color beta = bs->f * (std::abs(glm::dot(bs->wi, bsdf.shadingNormal())) / bs->pdf);
-    const LightSampleContext ctx{hit.p, hit.pError, hit.ng};
-    Ray ray = Scene::spawnRay(hit, bs->wi);
+    const Color beta = bs->f * (std::abs(glm::dot(bs->wi, bsdf.shadingNormal())) / bs->pdf);
     // Straight-through transparency passes the ray on, as for the light sample's shadow ray.
-    while (maxComponent(beta) > 0.0f) {
-        ++counters.rays;
-        const std::optional<SurfaceHit> next = scene.intersect(ray);
-        if (!next) {
-            return fromLight +
-                   beta * scene.escaped(ray.d) * escapedMisWeight(scene, hit.p, bs->wi, bs->pdf);
-        }
-        beta *= volumeAttenuation(scene, *next, ray.d);
-        const Bsdf nextBsdf = scene.bsdf(*next);
-        const StraightThrough straight =
-            chooseStraightThrough(scene, *next, nextBsdf, -ray.d, sampler);
-        beta *= straight.weight;
-        if (straight.passes) {
-            ray = Scene::spawnRay(*next, ray.d);
-            continue;
-        }
-        const Color Le = scene.emitted(*next, -ray.d);
-        if (scene.lightIndex(*next) < 0 || maxComponent(Le) <= 0.0f)
-            break;
-        return fromLight + beta * Le * emissionMisWeight(scene, ctx, bs->wi, *next, bs->pdf);
-    }
-    return fromLight;
+    return fromLight + sampledEmission(scene, LightSampleContext{hit.p, hit.pError, hit.ng},
+                                       Scene::spawnRay(hit, bs->wi), bs->pdf, beta, sampler,
+                                       counters);
+}
+
+Color estimateInScattering(const Scene& scene, const MediumPoint& point, Sampler& sampler,
+                           PathCounters& counters) {
+    const Color fromLight = sampleDirectLight(scene, point, sampler, counters);
+    // The phase function's sample: its weight p / pdf is 1.
+    const Vec3 wi = point.phase.sample(point.wo, sampler.get2D());
+    return fromLight + sampledEmission(scene, mediumContext(point), Ray{point.p, wi},
+                                       point.phase.p(point.wo, wi), Color(1.0f), sampler, counters);
 }
 
 }  // namespace penumbra

@@ -123,4 +123,12 @@ float escapedMisWeight(const Scene& scene, const Vec3& from, const Vec3& wi, flo
 Color estimateDirectLight(const Scene& scene, const SurfaceHit& hit, const Bsdf& bsdf,
                           const Vec3& wo, Sampler& sampler, PathCounters& counters);
 
+// The same at a point of the medium (no equiangular sampling: point.segment null): the direct
+// light the phase function scatters towards point.wo, from the light sample and one phase
+// function sample, each weighted by the power heuristic against the other; still to be
+// multiplied by sigma_s there. For a tracer that traces no bounce from the medium (the
+// single-scattering preview, raytrace/single_scattering.h).
+Color estimateInScattering(const Scene& scene, const MediumPoint& point, Sampler& sampler,
+                           PathCounters& counters);
+
 }  // namespace penumbra

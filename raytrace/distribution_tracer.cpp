@@ -40,7 +40,7 @@ Color DistributionTracer::glossyIndirect(const SurfaceHit& hit, const Bsdf& bsdf
 
 PathRadiance DistributionTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHit,
                                     PathCounters& counters) const {
-    const SpecularChainSettings chain{settings_.maxSpecularDepth, true};
+    const SpecularChainSettings chain{settings_.maxSpecularDepth, true, settings_.mediumSteps};
     return traceSpecularChain(
         scene_, ray, sampler, firstHit, counters, chain,
         [this](const SurfaceHit& hit, const Bsdf& bsdf, const Vec3& wo, Sampler& vertexSampler,

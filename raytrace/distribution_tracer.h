@@ -36,6 +36,10 @@ struct DistributionSettings {
     // rough glossy lobes (Bsdf::diffuseGlossyReflectance). Used instead of a radiosity solution by
     // the `whitted` pass; 0 = none.
     Color ambient{0.0f};
+    // Points marched per ray segment through a participating medium for the light it scatters
+    // once (raytrace/single_scattering.h): the `whitted` pass's medium preview, which also
+    // attenuates what lies behind; the planner keeps the `distribution` pass from media.
+    int mediumSteps = 8;
 };
 
 // The light paths distribution ray tracing counts with a radiosity solution's indirect part as

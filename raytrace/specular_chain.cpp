@@ -1,6 +1,8 @@
 #include "raytrace/specular_chain.h"
 
 #include "core/sampler.h"
+#include "core/surface_crossing.h"
+#include "raytrace/single_scattering.h"
 #include "raytrace/tracing_steps.h"
 
 namespace penumbra {
@@ -12,9 +14,23 @@ PathRadiance traceSpecularChain(const Scene& scene, Ray ray, Sampler& sampler, F
     Color beta(1.0f);
     const Vec3 cameraOrigin = ray.o;
     int specularDepth = 0;
+    const Medium* medium = settings.mediumSteps > 0 ? scene.medium() : nullptr;
     while (true) {
         ++counters.rays;
         const std::optional<SurfaceHit> hit = scene.intersect(ray);
+        // The medium along the segment: its single scattering and emission, then its
+        // transmittance on what lies behind.
+        const std::optional<Medium::Span> span = medium && !(hit && insideSolid(scene, *hit, ray.d))
+                                                     ? medium->span(ray, hit ? hit->t : INFINITY)
+                                                     : std::nullopt;
+        if (span) {
+            L[pathComponent(specularDepth + 1, specularDepth > 0)] +=
+                beta * marchSingleScattering(scene, *medium, ray, *span, settings.mediumSteps,
+                                             sampler, counters);
+            if (settings.countEmission)
+                L[pathComponent(specularDepth, true)] += beta * medium->emitted(ray, *span);
+            beta *= medium->transmittance(ray, span->t0, span->t1);
+        }
         if (!hit) {
             // The environment, seen directly or through the delta vertices.
             if (settings.countEmission)

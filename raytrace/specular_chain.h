@@ -8,6 +8,10 @@
 // being what the caller's term stands for. Unbiased for the delta part: the lobe choice is
 // reweighted by its probability (Bsdf::sample's pdf).
 //
+// With `mediumSteps`, each segment of the chain through the participating medium adds the light
+// the medium scatters once into it (raytrace/single_scattering.h) and its emission, and
+// attenuates what lies behind by its transmittance (L V S* E; multiple scattering is left out).
+//
 // Components (core/path_components.h): emission at the first hit is emission, the caller's term
 // at the first vertex keeps its own split, and everything seen after a specular vertex is
 // specular.
@@ -33,6 +37,9 @@ using DiffuseVertexTerm =
 struct SpecularChainSettings {
     int maxSpecularDepth = 16;  // specular vertices followed from the eye
     bool countEmission = true;  // add the emission every vertex of the chain shows (L S* E)
+    // Points marched per segment through the medium for its single scattering; 0: the chain
+    // ignores the medium (for a caller the planner keeps from scenes with one).
+    int mediumSteps = 0;
 };
 
 // Radiance (cd/m²) arriving along -ray.d at the ray's origin (contract of PathTracer::Li).

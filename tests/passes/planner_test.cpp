@@ -301,7 +301,7 @@ TEST(Planner, SkipsWhatTheSceneDoesNotNeed) {
 // A participating medium: its scattering events join the paths the scene can hold, which the
 // plain path tracer counts; a pipeline with a pass that does not render media is refused at the
 // first such pass, naming the one that does.
-TEST(Planner, OnlyThePlainPathTracerRendersAMedium) {
+TEST(Planner, OnlyThePlainPathTracerRendersAMediumAndWhittedPreviewsIt) {
     SceneContents foggy{true, true, 1, 0};
     foggy.medium = true;
     foggy.mediumScatters = true;
@@ -329,6 +329,24 @@ TEST(Planner, OnlyThePlainPathTracerRendersAMedium) {
             << message;
         EXPECT_NE(message.find("--pipeline reference"), std::string::npos) << message;
     }
+
+    // Whitted's pass with a constant ambient term previews the medium's single scattering: its
+    // plan names what it leaves out, among it the surfaces' light the medium scatters (L D V E).
+    std::vector<std::unique_ptr<Pass>> preview;
+    preview.push_back(std::make_unique<DistributionPass>(DistributionSettings{},
+                                                         DistributionPass::Ambient::Constant));
+    Pipeline whitted("whitted", std::move(preview));
+    const PipelinePlan previewPlan = planForScene(whitted, foggy);
+    ASSERT_EQ(previewPlan.warnings.size(), 1u);
+    EXPECT_NE(previewPlan.warnings[0].find("L D V E"), std::string::npos)
+        << previewPlan.warnings[0];
+    // The radiosity mean as its ambient term needs a solution, which has no medium yet.
+    std::vector<std::unique_ptr<Pass>> withMean;
+    withMean.push_back(std::make_unique<RadiosityPass>(RadiositySettings{}));
+    withMean.push_back(std::make_unique<DistributionPass>(
+        DistributionSettings{}, DistributionPass::Ambient::RadiosityMean));
+    Pipeline whittedMean("whitted with the mean", std::move(withMean));
+    EXPECT_THROW(planForScene(whittedMean, foggy), UsageError);
 }
 
 TEST(Planner, WarnsOfAPipelineThatLeavesPathsOut) {

@@ -21,6 +21,7 @@
 #include "core/scene.h"
 #include "raytrace/path_tracer.h"
 #include "tests/support/gltf_builder.h"
+#include "tests/support/medium_scenes.h"
 #include "tests/support/radiosity_scenes.h"
 #include "tests/support/sample_estimate.h"
 
@@ -39,37 +40,6 @@ namespace {
 // with probability 7e-6 for a normal mean (path_tracer_furnace_test.cpp's argument).
 constexpr double kDeviations = 4.5;
 
-// A density as a function of a point in the file's frame, and the lattice it is sampled on.
-struct DensityField {
-    std::function<double(const Vec3&)> at;
-    glm::ivec3 nodes;
-};
-
-// The scene of `builder` with `medium` in it (its box in the file's frame, moved as the loader
-// moved the geometry), scaled by `density` sampled over that box when one is given.
-std::unique_ptr<Scene> withMedium(const GltfBuilder& builder, const std::string& name,
-                                  MediumDesc medium, const DensityField* density = nullptr) {
-    const std::unique_ptr<Scene> built = loadBuiltScene(builder, name);
-    SceneDescription description = built->description();
-    const Vec3 origin(description.origin);
-    if (density) {
-        std::vector<float> values;
-        const Bounds3 box = *medium.box;
-        const glm::ivec3 n = density->nodes;
-        for (int z = 0; z < n.z; ++z)
-            for (int y = 0; y < n.y; ++y)
-                for (int x = 0; x < n.x; ++x)
-                    values.push_back(
-                        float(density->at(box.lo + Vec3(x, y, z) / Vec3(n - 1) * box.diagonal())));
-        medium.density = std::make_shared<const DensityGrid>(
-            Bounds3{box.lo - origin, box.hi - origin}, n, std::move(values));
-    }
-    if (medium.box)
-        medium.box = Bounds3{medium.box->lo - origin, medium.box->hi - origin};
-    description.media.push_back(medium);
-    return std::make_unique<Scene>(std::move(description));
-}
-
 // The mean and standard error of the green channel of n independent paths along `ray` (file
 // coordinates), each sample 0 of its own pixel (independent scrambles).
 Estimate tracePaths(const Scene& scene, const PathTracerSettings& settings, Ray ray, int n) {
@@ -84,18 +54,6 @@ Estimate tracePaths(const Scene& scene, const PathTracerSettings& settings, Ray 
     }
     return estimate;
 }
-
-// A heterogeneous density: two Gaussian puffs on a thin background, sampled on 20 x 10 x 20
-// nodes over its medium's box.
-const DensityField kPuffs{
-    [](const Vec3& p) {
-        const auto puff = [&](const Vec3& centre, double radius) {
-            return std::exp(-glm::dot(p - centre, p - centre) / (radius * radius));
-        };
-        return 0.1 + 3.0 * puff(Vec3(0.2f, -0.5f, -0.3f), 0.35) +
-               2.0 * puff(Vec3(-0.4f, -0.3f, 0.4f), 0.25);
-    },
-    {20, 10, 20}};
 
 TEST(VolumetricPathTracer, AScatteringFurnaceHoldsItsRadiance) {
     constexpr float kRho = 0.5f;
@@ -177,20 +135,9 @@ TEST(VolumetricPathTracer, AGlowingMediumInAFurnaceIsInEquilibrium) {
 }
 
 TEST(VolumetricPathTracer, AnEmitterSeenThroughAnAbsorbingSlab) {
-    GltfBuilder builder;
-    const int panel = builder.addMaterial(
-        {.baseColor = Color(0.0f), .emissive = Color(1.0f), .emissiveStrength = 3.0f});
-    // The panel at z = -5 faces +z (towards the camera at the origin).
-    builder.addQuad({-1, -1, -5}, {1, -1, -5}, {1, 1, -5}, {-1, 1, -5}, panel);
     const Color sigmaA(0.1f, 0.4f, 1.0f);
-    // A slab 1.5 m thick between the camera and the panel.
     const std::unique_ptr<Scene> scene =
-        withMedium(builder, "volumetric-slab",
-                   MediumDesc{.name = "slab",
-                              .sigmaA = sigmaA,
-                              .sigmaS = Color(0.0f),
-                              .g = 0.0f,
-                              .box = Bounds3{Vec3(-10, -10, -3.5f), Vec3(10, 10, -2)}});
+        withMedium(panelAtFiveMetres(), "volumetric-slab", slabBetween(sigmaA));
     const PathTracer tracer(*scene, PathTracerSettings{});
     Sampler sampler(1);
     PathCounters counters;
@@ -203,7 +150,8 @@ TEST(VolumetricPathTracer, AnEmitterSeenThroughAnAbsorbingSlab) {
             tracer.Li(Ray{-Vec3(scene->description().origin), d}, sampler, nullptr, counters)
                 .total();
         for (int c = 0; c < 3; ++c)
-            EXPECT_NEAR(L[c], 3.0f * std::exp(-sigmaA[c] * length), 1e-5f) << "channel " << c;
+            EXPECT_NEAR(L[c], kPanelRadiance * std::exp(-sigmaA[c] * length), 1e-5f)
+                << "channel " << c;
     }
 }
 
@@ -232,50 +180,6 @@ TEST(VolumetricPathTracer, AFloorLitThroughAnAbsorbingMedium) {
     const float expected = 0.6f / kPi * E * std::exp(-kSigmaA * glm::length(point - eye));
     EXPECT_NEAR(L.mean(), expected, 1e-5 * expected);
     EXPECT_EQ(L.lo, L.hi);
-}
-
-// An affine density (the homogeneous medium's is 1): its integral along a segment is the
-// segment's length times the density at its midpoint.
-using AffineDensity = std::function<double(const glm::dvec3&)>;
-double opticalLength(const AffineDensity& density, const glm::dvec3& a, const glm::dvec3& b) {
-    return glm::length(b - a) * density(0.5 * (a + b));
-}
-
-// The airlight integral: the radiance a point light of intensity I at the origin scatters once
-// into a ray from o along d, over the ray's span [0, tEnd] in the medium of density rho,
-//     L = int sigma_s rho(x) p(cos theta(t)) I / r(t)^2 exp(-sigma_t (D(0, x) + D(o, x))) dt,
-// x = o + t d, r = |x|, D the optical length, theta(t) the angle between the light's way from
-// the lamp to the point and -d.
-double airlight(
-    const Vec3& o, const Vec3& d, double tEnd, double I, double sigmaS, double sigmaT,
-    const HenyeyGreenstein& phase,
-    const AffineDensity& density = [](const glm::dvec3&) { return 1.0; }) {
-    constexpr int kIntervals = 200000;
-    const double h = tEnd / kIntervals;
-    double sum = 0.0;
-    for (int i = 0; i <= kIntervals; ++i) {
-        const double t = i * h;
-        const glm::dvec3 x = glm::dvec3(o) + t * glm::dvec3(d);
-        const double r = glm::length(x);
-        const double cosTheta = glm::dot(x / r, -glm::dvec3(d));
-        const double D =
-            opticalLength(density, glm::dvec3(0.0), x) + opticalLength(density, glm::dvec3(o), x);
-        const double f =
-            sigmaS * density(x) * phase.p(float(cosTheta)) * I / (r * r) * std::exp(-sigmaT * D);
-        sum += f * ((i == 0 || i == kIntervals) ? 1.0 : (i % 2 ? 4.0 : 2.0));
-    }
-    return sum * h / 3.0;
-}
-
-// A point lamp of kIntensity at the origin and, to have something to load, a black quad far below,
-// out of the medium and the rays' way.
-constexpr float kIntensity = 10.0f;
-GltfBuilder lampAtTheOrigin() {
-    GltfBuilder builder;
-    const int black = builder.addMaterial({.baseColor = Color(0.0f)});
-    builder.addQuad({-1, -50, 1}, {1, -50, 1}, {1, -50, -1}, {-1, -50, -1}, black);
-    builder.addLight({.type = "point", .intensity = kIntensity, .position = Vec3(0.0f)});
-    return builder;
 }
 
 // The light scattered once into `ray` (maxDepth 1), at the defaults (equiangular sampling with
@@ -319,7 +223,7 @@ TEST(VolumetricPathTracer, SingleScatteringOfAPointLightIsTheAirlightIntegral) {
                                   .g = g,
                                   .box = Bounds3{Vec3(-5.0f), Vec3(5.0f)}});
         const double expected =
-            airlight(o, d, 9.0, kIntensity, kSigmaS, kSigmaA + kSigmaS, HenyeyGreenstein(g));
+            airlight(o, d, 9.0, kLampIntensity, kSigmaS, kSigmaA + kSigmaS, HenyeyGreenstein(g));
         const std::array<double, 2> standardErrors =
             expectSingleScattering(*scene, Ray{o, d}, expected);
         // Drawn towards the lamp, the events pass its 1 / r^2 peak: less noise.
@@ -345,31 +249,14 @@ TEST(VolumetricPathTracer, SingleScatteringInAGradedHazeIsTheAirlightIntegral) {
     const Vec3 o(-4.0f, 0.5f, 0.3f), d = glm::normalize(Vec3(1.0f, 0.1f, 0.0f));
     // The ray leaves the box at x = 5.
     const double tEnd = 9.0 / d.x;
-    const double expected = airlight(o, d, tEnd, kIntensity, kSigmaS, kSigmaA + kSigmaS,
+    const double expected = airlight(o, d, tEnd, kLampIntensity, kSigmaS, kSigmaA + kSigmaS,
                                      HenyeyGreenstein(0.3f), graded);
     expectSingleScattering(*scene, Ray{o, d}, expected);
 }
 
-// Multiple scattering of a point light in smoke between grey walls: equiangular sampling and
-// free flights alone are two estimators of the same radiance (every event after the first too).
-// The smoky room of the tests below: the closed box [-1, 1]^3 of grey walls, a point lamp, and
-// chromatic smoke in its lower half only, half a metre and more below the lamp, so that the
-// estimators' light samples from the smoke stay bounded (a point light inside a medium gives each
-// of them a heavy tail, 1 / r^2 at events near it); a ray from the front down into the smoke.
-GltfBuilder smokyRoom() {
-    GltfBuilder builder;
-    const int walls = builder.addMaterial({.baseColor = Color(0.6f)});
-    addClosedBox(builder, walls, walls);
-    builder.addLight(
-        {.type = "point", .name = "Lamp", .intensity = 2.0f, .position = Vec3(0.3f, 0.5f, -0.2f)});
-    return builder;
-}
-const MediumDesc kLowSmoke{.name = "smoke",
-                           .sigmaA = Color(0.2f, 0.3f, 0.4f),
-                           .sigmaS = Color(1.0f),
-                           .g = 0.5f,
-                           .box = Bounds3{Vec3(-1.0f), Vec3(1.0f, 0.0f, 1.0f)}};
-const Ray kIntoTheSmoke{Vec3(0.0f, 0.0f, 0.9f), glm::normalize(Vec3(0.2f, -0.3f, -1.0f))};
+// Multiple scattering of a point light in smoke between grey walls (smokyRoom(), kLowSmoke, even
+// and in puffs): equiangular sampling and free flights alone are two estimators of the same
+// radiance (every event after the first too).
 
 TEST(VolumetricPathTracer, EquiangularSamplingAgreesWithFreeFlightsAlone) {
     for (const DensityField* density : {static_cast<const DensityField*>(nullptr), &kPuffs}) {
