@@ -7,10 +7,10 @@
 // exact for cubics (Abramowitz and Stegun 1964, 25.4.29), so the integral of the density along a
 // ray (its optical depth, once scaled by sigma_t) is exact cell by cell, up to rounding, and the
 // distance at which that integral reaches a given value is found by a safeguarded Newton
-// iteration on it. This is regular tracking done exactly ("analytic" or "regular" tracking in
-// Novák et al. 2018, "Monte Carlo Methods for Volumetric Light Transport Simulation", section
-// 4.1): transmittance without noise and free-flight densities that can be evaluated, which keeps
-// the spectral and equiangular multiple importance sampling of the medium unbiased.
+// iteration on it. This is regular tracking done exactly (the "regular tracking" of Novák et
+// al. 2018, "Monte Carlo Methods for Volumetric Light Transport Simulation"): transmittance
+// without noise and free-flight densities that can be evaluated, which keeps the spectral and
+// equiangular multiple importance sampling of the medium unbiased.
 #pragma once
 
 #include "core/math.h"

@@ -3,8 +3,8 @@
 // lattice reproduces exactly, integrated along rays by Simpson's rule (exact for the cubics they
 // become) for the optical depth and its inverse; and, in a procedural smoke, the textbook
 // stochastic estimators the exact tracking replaces, written here from their papers: ratio
-// tracking's transmittance (Novák, Selle and Jarosz 2014, Eq. 12) and delta tracking's collision
-// estimate of the in-scattered light (Woodcock et al. 1965; Novák et al. 2018, section 4.2).
+// tracking's transmittance (Novák, Selle and Jarosz 2014) and delta tracking's collision
+// estimate of the in-scattered light (Woodcock et al. 1965; Novák et al. 2018).
 #include "core/density_grid.h"
 #include "core/medium.h"
 #include "tests/support/sample_estimate.h"
@@ -179,8 +179,8 @@ MediumDesc smokyMedium() {
     return desc;
 }
 
-// Ratio tracking (Novák et al. 2014, Eq. 12) against the majorant sigma_t max(density): the mean
-// of the products of (1 - sigma_t(x) / majorant) over the tentative collisions is T.
+// Ratio tracking (Novák, Selle and Jarosz 2014) against the majorant sigma_t max(density): the
+// mean of the products of (1 - sigma_t(x) / majorant) over the tentative collisions is T.
 TEST(DensityGrid, TransmittanceAgreesWithRatioTracking) {
     const Medium medium(smokyMedium(), kBox);
     const DensityGrid& grid = *medium.density();
