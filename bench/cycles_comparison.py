@@ -34,8 +34,9 @@ Steps (linear EXR images, in --workdir):
      counts as error once Cycles' noise falls below it). A table of every run, then one of the
      medians over the repeats.
 
-A pass script as --scene (`.toml`) is rendered by penumbra as it stands (its passes are the one
-pipeline, named "script"; --pipelines is not used), and by Cycles as its glTF scene, with the
+A pass script as --scene (`.toml`) is rendered by penumbra as it stands when it lists [[pass]]
+tables (its passes are the one pipeline, named "script"; --pipelines is not used), with each of
+--pipelines in place of its own when it names a built-in `pipeline`, and by Cycles as its glTF scene, with the
 script's [[medium]] table, if it has one, added by bench/cycles_medium.py as a volume box
 (docs/media.md). An environment-lit scene (--environment: the scene's own map, or a file given to both renderers)
 is rendered in Cycles by bench/cycles_environment.py, which runs the same harness with the map as
@@ -106,12 +107,12 @@ def run(cmd):
 
 
 def run_penumbra(a, out, pipeline, seed, spp=None, time_limit=None):
-    """Renders with penumbra; spp and seconds are those the EXR records. A pass script is its
-    own pipeline."""
+    """Renders with penumbra; spp and seconds are those the EXR records. A pass script with
+    [[pass]] tables is its own pipeline; one that names a built-in `pipeline` takes --pipeline."""
     cmd = [a.penumbra, "render", a.scene, "-o", out,
            "--width", str(a.width), "--height", str(a.height), "--seed", str(seed),
            "--threads", str(a.threads)] + environment_args(a)
-    if not a.script:
+    if a.takes_pipeline:
         cmd += ["--pipeline", pipeline]
     if time_limit is not None:
         cmd += ["--time-limit", str(time_limit), "--spp", "1000000"]
@@ -292,6 +293,7 @@ def main():
     a.pipelines = a.pipelines.split(",")
     a.script = a.scene.endswith(".toml")
     a.gltf, a.medium = a.scene, None
+    a.takes_pipeline = not a.script
     if a.script:
         if a.environment is not None:
             raise SystemExit("--environment with a pass script: give it in the script")
@@ -302,7 +304,9 @@ def main():
         if a.medium is not None and "density" in a.medium:
             a.medium["density"] = os.path.join(os.path.dirname(os.path.abspath(a.scene)),
                                                a.medium["density"])
-        a.pipelines = ["script"]
+        a.takes_pipeline = "pass" not in script
+        if not a.takes_pipeline:
+            a.pipelines = ["script"]
     os.makedirs(a.workdir, exist_ok=True)
     w = lambda name: os.path.join(a.workdir, name)  # noqa: E731
 

@@ -155,12 +155,9 @@ class PreparedPipeline {
 
 void measure(IlluminanceOptions& options) {
     IlluminanceSettings& settings = options.settings;
-    const std::optional<PassScript> script = readPassScript(options.scene);
+    std::optional<PassScript> script = readPassScript(options.scene);
     if (script) {
-        if (options.command->count("--pipeline") > 0) {
-            throw UsageError("--pipeline cannot be combined with a pass script (" + script->file +
-                             "): the script's [[pass]] tables are the pipeline");
-        }
+        takePipelineOption(*script, options.command->count("--pipeline") > 0, options.pipeline);
         if (options.command->count("--spp") == 0 && script->spp)
             settings.samples = *script->spp;
         if (options.command->count("--seed") == 0 && script->seed)

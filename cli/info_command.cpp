@@ -100,6 +100,11 @@ void printScript(const PassScript& script) {
         std::cout << separator << key << " = " << value;
         separator = ", ";
     }
+    if (script.pipeline) {
+        std::cout << "\npasses:     the built-in pipeline " << *script.pipeline
+                  << " (penumbra plan lists them)\n";
+        return;
+    }
     std::cout << "\npasses:     " << script.passes.size() << "\n";
     for (const ScriptPass& pass : script.passes) {
         std::cout << "  " << pass.parameters.path() << " (line " << pass.parameters.location().line

@@ -20,11 +20,9 @@ struct PlanOptions {
 };
 
 void printPlan(PlanOptions& options) {
-    const std::optional<PassScript> script = readPassScript(options.scene);
-    if (script && options.command->count("--pipeline") > 0) {
-        throw UsageError("--pipeline cannot be combined with a pass script (" + script->file +
-                         "): the script's [[pass]] tables are the pipeline");
-    }
+    std::optional<PassScript> script = readPassScript(options.scene);
+    if (script)
+        takePipelineOption(*script, options.command->count("--pipeline") > 0, options.pipeline);
     RenderSettings settings;
     Pipeline pipeline =
         script ? makeScriptPipeline(*script) : makePipelinePreset(options.pipeline, settings);

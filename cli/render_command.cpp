@@ -49,14 +49,11 @@ std::vector<std::string> splitList(const std::string& list) {
 
 // Takes the script's values for what the command line does not give: options given on the
 // command line win (docs/pass-scripts.md, "Precedence").
-void applyScript(const PassScript& script, RenderOptions& options) {
+void applyScript(PassScript& script, RenderOptions& options) {
     const auto given = [&options](const std::string& name) {
         return options.command->count(name) > 0;
     };
-    if (given("--pipeline")) {
-        throw UsageError("--pipeline cannot be combined with a pass script (" + script.file +
-                         "): the script's [[pass]] tables are the pipeline");
-    }
+    takePipelineOption(script, given("--pipeline"), options.pipeline);
     RenderSettings& s = options.settings;
     if (!given("--camera") && script.camera)
         s.camera = *script.camera;
@@ -185,7 +182,7 @@ CameraDesc scriptCamera(const Scene& scene, const RenderOptions& options,
 void render(RenderOptions& options) {
     RenderSettings& settings = options.settings;
     settings.quiet = options.scene.quiet;
-    const std::optional<PassScript> script = readPassScript(options.scene);
+    std::optional<PassScript> script = readPassScript(options.scene);
     if (script)
         applyScript(*script, options);
     if (options.outputs.empty())

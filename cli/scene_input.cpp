@@ -84,6 +84,18 @@ void addSceneInputOptions(CLI::App& command, SceneInput& input, PassScripts scri
         ->take_all();
 }
 
+void takePipelineOption(PassScript& script, bool given, const std::string& pipeline) {
+    if (!given)
+        return;
+    if (!script.passes.empty()) {
+        throw UsageError(
+            "--pipeline cannot be combined with a pass script that lists [[pass]] "
+            "tables (" +
+            script.file + "): they are the pipeline");
+    }
+    script.pipeline = pipeline;
+}
+
 std::optional<PassScript> readPassScript(SceneInput& input) {
     if (std::filesystem::path(input.path).extension() != ".toml")
         return std::nullopt;

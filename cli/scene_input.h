@@ -56,6 +56,10 @@ void addSceneInputOptions(CLI::App& command, SceneInput& input, PassScripts scri
 // them. Nothing for a glTF file. Call it before loadScene().
 std::optional<PassScript> readPassScript(SceneInput& input);
 
+// The command line's --pipeline (given when `given`) with a pass script: it replaces the script's
+// `pipeline`; refused (UsageError) when the script lists [[pass]] tables, which are its pipeline.
+void takePipelineOption(PassScript& script, bool given, const std::string& pipeline);
+
 // Loads the glTF file (after readPassScript, the scene of a pass script), sets or adjusts its
 // environment light as `input.environment` says, adds the script's luminaires, prints the loader's
 // warnings to stderr unless quiet, and builds the scene. Throws SceneError on a bad scene,

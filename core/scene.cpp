@@ -204,11 +204,15 @@ Color Scene::transmittance(const Vec3& from, const Vec3& fromError, const Vec3& 
     const Color surfaces = surfaceTransmittance(from, fromError, fromNormal, to, toError, toNormal);
     if (!medium_ || !(maxComponent(surfaces) > 0.0f))
         return surfaces;
+    return surfaces * mediumTransmittance(from, to);
+}
+
+Color Scene::mediumTransmittance(const Vec3& from, const Vec3& to) const {
     const Vec3 d = to - from;
     const float distance = glm::length(d);
-    if (!(distance > 0.0f))
-        return surfaces;
-    return surfaces * medium_->transmittance(Ray{from, d / distance}, distance);
+    if (!medium_ || !(distance > 0.0f))
+        return Color(1.0f);
+    return medium_->transmittance(Ray{from, d / distance}, distance);
 }
 
 Color Scene::surfaceTransmittance(const Vec3& from, const Vec3& fromError, const Vec3& fromNormal,

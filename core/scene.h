@@ -107,15 +107,16 @@ class Scene {
     // medium (its transmittance over the segment).
     Color transmittance(const Vec3& from, const Vec3& fromError, const Vec3& fromNormal,
                         const Vec3& to, const Vec3& toError, const Vec3& toNormal) const;
+    // Its two factors: the surfaces' (0 when blocked, straight-through transparency) and the
+    // medium's over the straight segment (1 without a medium).
+    Color surfaceTransmittance(const Vec3& from, const Vec3& fromError, const Vec3& fromNormal,
+                               const Vec3& to, const Vec3& toError, const Vec3& toNormal) const;
+    Color mediumTransmittance(const Vec3& from, const Vec3& to) const;
 
     // Ray leaving a surface hit in direction w, offset robustly off the surface.
     static Ray spawnRay(const SurfaceHit& hit, const Vec3& w);
 
   private:
-    // transmittance() without the medium.
-    Color surfaceTransmittance(const Vec3& from, const Vec3& fromError, const Vec3& fromNormal,
-                               const Vec3& to, const Vec3& toError, const Vec3& toNormal) const;
-
     SceneDescription desc_;
     std::unique_ptr<Accel> accel_;
     std::vector<std::unique_ptr<Light>> lights_;

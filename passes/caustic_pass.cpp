@@ -65,6 +65,11 @@ std::string CausticPass::skipReason(const SceneContents& contents) const {
     const std::string none = causticPassSkipReason(contents);
     if (!none.empty() || !yields_ || !causticsTracedLater_)
         return none;
+    // As in the reference, a point light's caustics are then missing: no path from the eye
+    // finds them.
+    if (contents.medium)
+        return "the scene has a medium, which the photons do not cross: the path pass traces the "
+               "caustics (a point light's are missing, as in the reference)";
     // A punctual light's caustics cannot be found by tracing from the eye: the map stays.
     if (contents.punctualLights > 0 || contents.lightSolidAngleAtSpecular < kLargeLightSolidAngle)
         return "";

@@ -71,7 +71,8 @@ class CausticPass : public SamplingPass {
         causticsTracedLater_ = shape.causticsTracedLater;
     }
     // Lets the pass step aside where a path pass after it would trace the caustics itself and
-    // the lights look large from the specular surfaces (skipReason): the corrected hybrid's.
+    // the lights look large from the specular surfaces, or the scene has a medium, which the
+    // photons do not cross (skipReason): the corrected hybrid's.
     void yieldToPathTracerForLargeLights() { yields_ = true; }
     PassStats parameters() const override;
     PassStats stats() const override;

@@ -643,21 +643,28 @@ PassScript loadPassScript(const std::string& path) {
         .luminaires = {},
         .medium = {},
         .passes = {},
+        .pipeline = top.find<std::string>("pipeline"),
         .topLevel = top};
 
-    // [[pass]]: an array of tables, each a pass; its parameters are read by the registry.
+    // [[pass]]: an array of tables, each a pass; its parameters are read by the registry. Or a
+    // built-in pipeline, whose name the registry checks.
     const toml::node* passes = top.impl_->lookup("pass");
-    if (!passes) {
+    if (passes && script.pipeline) {
+        throw top.error("pipeline",
+                        "give either a built-in `pipeline` or [[pass]] tables, not both");
+    }
+    if (!passes && !script.pipeline) {
         throw top.error("pass",
                         "missing: a script needs at least one [[pass]] table with its type, e.g. "
-                        "[[pass]] type = \"path\"");
+                        "[[pass]] type = \"path\", or a built-in pipeline, e.g. "
+                        "pipeline = \"hybrid\"");
     }
-    const toml::array* array = passes->as_array();
-    if (!array || !array->is_array_of_tables()) {
+    const toml::array* array = passes ? passes->as_array() : nullptr;
+    if (passes && (!array || !array->is_array_of_tables())) {
         throw top.error("pass",
                         "expected [[pass]] tables (an array of tables), got " + describe(*passes));
     }
-    for (size_t i = 0; i < array->size(); ++i) {
+    for (size_t i = 0; array && i < array->size(); ++i) {
         const toml::table& table = *array->get(i)->as_table();
         ScriptTable parameters =
             tableAt(&table, "pass[" + std::to_string(i) + "]", locationOf(table.source()));

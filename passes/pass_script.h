@@ -155,14 +155,18 @@ struct PassScript {
     std::vector<std::string> portals;
     std::vector<ScriptLuminaire> luminaires;  // [[luminaire]] tables, in order
     std::optional<ScriptMedium> medium;       // the [[medium]] table (at most one for now)
-    std::vector<ScriptPass> passes;           // at least one, in order
-    ScriptTable topLevel;                     // for errors about top-level values found later
+    // The passes, in order: [[pass]] tables, or a built-in pipeline by name (`pipeline`), one of
+    // the two (passes/pipeline.h, makeScriptPipeline).
+    std::vector<ScriptPass> passes;
+    std::optional<std::string> pipeline;
+    ScriptTable topLevel;  // for errors about top-level values found later
 };
 
 // Reads and checks a pass script: TOML syntax, the top-level keys (types, ranges, that the scene
 // file exists and is .gltf or .glb, that outputs have a supported extension, an existing folder
-// and no duplicates) and that every [[pass]] has a string `type`. Pass parameters are read later,
-// by makeScriptPipeline(). Throws ScriptError at the offending place; UsageError when the file
+// and no duplicates), that it has [[pass]] tables or a `pipeline` string, not both, and that
+// every [[pass]] has a string `type`. Pass parameters and the pipeline's name are read later, by
+// makeScriptPipeline(). Throws ScriptError at the offending place; UsageError when the file
 // cannot be read.
 PassScript loadPassScript(const std::string& path);
 

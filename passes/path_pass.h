@@ -60,11 +60,9 @@ class PathPass : public SamplingPass {
     void adapt(const PipelineShape& shape) override;
     // Without reuse: every contribution of the path tracer comes from one light.
     bool splitsLightGroups() const override { return !settings_.reuseRadiosity; }
-    // Media are the path tracer's own (raytrace/path_tracer.h); reuse and the caustic pass's
-    // share have no medium yet.
-    bool rendersMedia() const override {
-        return !settings_.reuseRadiosity && !settings_.excludeCaustics;
-    }
+    // Media are the path tracer's own (raytrace/path_tracer.h), the corrected reuse's too; the
+    // uncorrected reuse and the caustic pass's share have no medium.
+    bool rendersMedia() const override { return tracesMedia(settings_); }
     PassStats parameters() const override;
 
   protected:

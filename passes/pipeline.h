@@ -59,6 +59,8 @@ std::vector<std::string> passTypeNames();
 // its type's constructor (the pass's fromScript, listed in passes/registry.cpp), which reads the
 // table's parameters; keys nobody read are then refused. Throws ScriptError at the place of a
 // missing or unknown type, a bad or unknown parameter, or an impossible combination of passes.
+// A script that names a built-in `pipeline` instead gets that preset (ScriptError at the name if
+// it is unknown), with the overrides' max_depth.
 Pipeline makeScriptPipeline(const PassScript& script, const PassOverrides& overrides = {});
 
 }  // namespace penumbra

@@ -142,19 +142,23 @@ PipelinePlan planForScene(Pipeline& pipeline, const SceneContents& contents) {
         if (!skipReasons[i].empty())
             pipeline.skip(i);
     }
-    for (size_t i = 0; i < passes.size(); ++i) {
-        if (contents.medium && skipReasons[i].empty() && !passes[i]->rendersMedia()) {
-            throw UsageError(pipeline.name() + ": " + passName(i, *passes[i]) +
-                             " does not render participating media, and the scene has one: the "
-                             "path tracer does (--pipeline reference, or a `path` pass without "
-                             "`radiosity = true` and without a `caustics` pass), and Whitted's "
-                             "pass previews their single scattering (--pipeline whitted)");
-        }
-    }
     // The passes that run are fitted to each other again (a path pass counts the caustics
     // itself once the caustic pass is skipped); a preset or a checked script stays consistent.
     if (const auto problem = checkPipeline(pipeline))
         throw std::logic_error("planning " + pipeline.name() + ": " + problem->message);
+    // Then they say whether they render a medium (a path pass without the caustic map that the
+    // skipped caustic pass would have made, for one).
+    for (size_t i = 0; i < passes.size(); ++i) {
+        if (contents.medium && skipReasons[i].empty() && !passes[i]->rendersMedia()) {
+            throw UsageError(pipeline.name() + ": " + passName(i, *passes[i]) +
+                             " does not render participating media, and the scene has one: the "
+                             "path tracer does (--pipeline reference, or a `path` pass without a "
+                             "`caustics` pass before it, and with a `correction` above 0 if it "
+                             "reuses radiosity), the corrected hybrid too (--pipeline hybrid), "
+                             "and Whitted's pass previews their single scattering "
+                             "(--pipeline whitted)");
+        }
+    }
     PathSet counted = PathSet::parse("");
     for (size_t i = 0; i < passes.size(); ++i) {
         const Pass& pass = *passes[i];

@@ -65,6 +65,11 @@ class RadiosityPass : public SamplingPass {
     std::set<std::string> products() const override { return {products::kRadiositySolution}; }
     TransportFlags transportFlags() const override { return {false, takesCaustics_, transfers_}; }
     void adapt(const PipelineShape& shape) override;
+    // A solution that only later passes reuse: they say whether they render a medium (the
+    // corrected path pass does, whatever the solution holds). The view does not. The solution
+    // holds part of a medium's effect, the transmittance its shadow rays carry
+    // (Scene::transmittance), not the light the medium scatters.
+    bool rendersMedia() const override { return !view_; }
     // A solution that only later passes reuse is zero without a diffuse surface: skipped then.
     std::string skipReason(const SceneContents& contents) const override;
     PassStats parameters() const override;

@@ -11,6 +11,7 @@
 #include "passes/planner.h"
 #include "passes/radiosity_pass.h"
 
+#include <algorithm>
 #include <filesystem>
 #include <functional>
 #include <stdexcept>
@@ -137,6 +138,16 @@ std::vector<std::string> passTypeNames() {
 }
 
 Pipeline makeScriptPipeline(const PassScript& script, const PassOverrides& overrides) {
+    if (script.pipeline) {
+        const std::vector<std::string> names = pipelinePresetNames();
+        if (std::find(names.begin(), names.end(), *script.pipeline) == names.end()) {
+            throw script.topLevel.error("pipeline", "unknown pipeline '" + *script.pipeline +
+                                                        "'; valid: " + joinedNames(names));
+        }
+        RenderSettings settings;
+        settings.maxDepth = overrides.maxDepth.value_or(settings.maxDepth);
+        return makePipelinePreset(*script.pipeline, settings);
+    }
     std::vector<std::unique_ptr<Pass>> passes;
     for (const ScriptPass& entry : script.passes) {
         // The composite sums what the passes before it made: a pass after it would be lost.

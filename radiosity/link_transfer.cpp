@@ -282,11 +282,12 @@ class ChildTally {
 //
 // With `adaptive`, the first kFirstVisibilityRays pairs, which are themselves stratified (the first
 // 4 points of a (0,2)-sequence fall one in each quarter of the square), decide alone when they
-// agree, i.e. the pair looks wholly visible or wholly hidden; only pairs they see partly occluded
-// get the full n (as HSA91 suggest, casting more rays only where a few disagree). Most links of
-// an interior are unoccluded, so this saves most rays. An occluder missed by all four is small
-// against the pair, and the caller asks for it only where even missing the whole transfer would be
-// under the oracle's threshold (evaluateLinks).
+// agree, i.e. the pair looks wholly visible or wholly hidden by the surfaces (a medium's
+// transmittance varies smoothly over the pair: the rays cast give it); only pairs they see
+// partly occluded get the full n (as HSA91 suggest, casting more rays only where a few disagree).
+// Most links of an interior are unoccluded, so this saves most rays. An occluder missed by all four
+// is small against the pair, and the caller asks for it only where even missing the whole transfer
+// would be under the oracle's threshold (evaluateLinks).
 //
 // The same rays, binned by the child of each element end they leave or reach, give the children's
 // visible fractions (`children`) for the link's child weights, about n/4 rays per child: the
@@ -375,6 +376,8 @@ Color LinkTransfer::visibility(int receiver, int source, uint64_t& rays, bool ad
     };
     const Vec3 nr = sideNormal(receiver), ns = sideNormal(source);
     Color sum(0.0f), facingSum(0.0f);
+    // The surfaces' part of the sums, which alone decides whether the first rays agree.
+    Color surfaceSum(0.0f), facingSurfaceSum(0.0f);
     int k = 0, counted = 0, facing = 0;
     ChildTally tally;
     // The form factor integrates only over the pairs of points in front of each other
@@ -400,22 +403,26 @@ Color LinkTransfer::visibility(int receiver, int source, uint64_t& rays, bool ad
             if (facingOnly && !isFacing)
                 continue;
             ++counted;
-            const Color T = ys.hidden
-                                ? Color(0.0f)
-                                : scene_.transmittance(x.p, x.pError, x.n, y.p, y.pError, y.n);
+            const Color Ts =
+                ys.hidden ? Color(0.0f)
+                          : scene_.surfaceTransmittance(x.p, x.pError, x.n, y.p, y.pError, y.n);
+            const Color T =
+                maxComponent(Ts) > 0.0f ? Ts * scene_.mediumTransmittance(x.p, y.p) : Ts;
             sum += T;
+            surfaceSum += Ts;
             if (isFacing) {
                 facingSum += T;
+                facingSurfaceSum += Ts;
                 ++facing;
             }
             if (children)
                 tally.add(xs.child, ys.child, T, isFacing);
         }
     };
-    const auto estimate = [&] {
+    const auto estimate = [&](const Color& all, const Color& facingOnes) {
         if (facing > 0)
-            return facingSum / static_cast<float>(facing);
-        return counted > 0 ? sum / static_cast<float>(counted) : Color(0.0f);
+            return facingOnes / static_cast<float>(facing);
+        return counted > 0 ? all / static_cast<float>(counted) : Color(0.0f);
     };
     const int firstRays = adaptive ? std::min(n, kFirstVisibilityRays) : n;
     cast(firstRays);
@@ -424,7 +431,7 @@ Color LinkTransfer::visibility(int receiver, int source, uint64_t& rays, bool ad
         k = 0;
         cast(firstRays);
     }
-    const Color first = estimate();
+    const Color first = estimate(surfaceSum, facingSurfaceSum);
     const float firstSum = first.r + first.g + first.b;
     const bool agree = firstSum == 0.0f || firstSum == 3.0f;
     if (!agree)
@@ -435,7 +442,7 @@ Color LinkTransfer::visibility(int receiver, int source, uint64_t& rays, bool ad
         children->receiver = ChildVisibility::encode(tally.means(0, facing > 0));
         children->source = ChildVisibility::encode(tally.means(1, facing > 0));
     }
-    return estimate();
+    return estimate(sum, facingSum);
 }
 
 // The form factor of a link over the exposed part of a partly covered receiver, from F over the

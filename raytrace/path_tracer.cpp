@@ -43,12 +43,13 @@ std::string pathTracerLightPaths(const PathTracerSettings& settings) {
     // solution that took the caustic photons holds L S+ D+ as well: L S* D+ arrives.
     // A correction (correctionProbability > 0) traces, in expectation, everything the solution
     // held: the paths are the path tracer's again.
-    // Only the path tracer that counts every path meets a medium (V vertices): the planner
-    // refuses media for the others.
-    if (!settings.reuseRadiosity && !settings.excludeCaustics)
+    // Only the tracers that count every path meet a medium (V vertices), the corrected reuse
+    // too: the planner refuses media for the others.
+    if (!settings.excludeCaustics &&
+        (!settings.reuseRadiosity || settings.correctionProbability > 0.0f))
         return "L(D|S|V)*E";
     if (!settings.reuseRadiosity || settings.correctionProbability > 0.0f)
-        return settings.excludeCaustics ? "L S* E | L D S* E | L (D|S)* D S* D S* E" : "L(D|S)*E";
+        return "L S* E | L D S* E | L (D|S)* D S* D S* E";
     // A solution that holds the light through specular surfaces as well: every path with two
     // diffuse vertices or more arrives at the second one through it.
     if (settings.causticsInRadiosity && settings.specularInRadiosity)
@@ -58,6 +59,13 @@ std::string pathTracerLightPaths(const PathTracerSettings& settings) {
     return std::string(settings.excludeCaustics ? "L S* E | L D S* E | "
                                                 : "L S* E | L S* D S* E | ") +
            (settings.causticsInRadiosity ? "L S* D+" : "(L D+ | L S+ D)") + " (S+ D)* S* D S* E";
+}
+
+bool tracesMedia(const PathTracerSettings& settings) {
+    if (settings.excludeCaustics)
+        return false;
+    return !settings.reuseRadiosity ||
+           (settings.correctionProbability > 0.0f && !settings.causticsAtReuse);
 }
 
 PathTracer::PathTracer(const Scene& scene, const PathTracerSettings& settings,
@@ -70,7 +78,7 @@ PathTracer::PathTracer(const Scene& scene, const PathTracerSettings& settings,
       groups_(groups) {
     if (groups_ && settings_.reuseRadiosity)
         throw std::logic_error("PathTracer: light groups need a tracer without reuse");
-    if (scene_.medium() && (settings_.reuseRadiosity || settings_.excludeCaustics))
+    if (scene_.medium() && !tracesMedia(settings_))
         throw std::logic_error("PathTracer: a medium needs a tracer that counts every path");
     const Medium* medium = scene_.medium();
     if (medium && medium->scatters() && settings_.equiangular) {
@@ -307,8 +315,15 @@ PathRadiance PathTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHit,
                                         segment ? &*segment : nullptr, flight.t};
                 addDirectLight(pathComponent(depth + 1, firstVertexSpecular), point);
                 const Vec3 wi = medium->phase().sample(point.wo, sampler.get2D());
+                // A V vertex is diffuse for the path classes, and no reuse vertex: no solution
+                // holds a medium's light. Every part goes on through it as it was (the fresh
+                // correction stays fresh: light that a specular chain after it brings is the
+                // base's, as after a reuse vertex's Lambertian bounce), and no caustic map or
+                // solution holds the light that such a chain brings to it.
                 ++diffuseVertices;
                 specularAfterDiffuse = false;
+                lastDiffuseHeldCaustics = false;
+                w.chain = w.glossyChain = Color(0.0f);
                 lastDelta = false;
                 lastBsdfPdf = medium->phase().p(point.wo, wi);
                 lastCtx = LightSampleContext{point.p, Vec3(0.0f), Vec3(0.0f)};

@@ -41,7 +41,10 @@
 //   solution's value, divided by q. The solution's error then costs noise, not bias: the
 //   estimate is the path tracer's in expectation, and the light paths are the path tracer's
 //   (docs/light-paths.md, "The hybrid's correction"). The caustic map's estimate at the reuse
-//   vertex, read only when the solution took no photons, is not corrected.
+//   vertex, read only when the solution took no photons, is not corrected. In a participating
+//   medium a scattering event counts as a diffuse vertex (the first one may be in the medium)
+//   and is never a reuse vertex: no solution holds the medium's scattered light, which the
+//   correction traces after a reuse vertex (tracesMedia).
 // - caustic exclusion: emission reached from the first diffuse vertex through one or more
 //   specular vertices (L S+ D S* E, the caustic pass's share) is dropped.
 // A vertex is diffuse or specular by the lobe it is left through (a plastic's diffuse base and
@@ -107,6 +110,11 @@ struct PathTracerSettings {
 // The light paths, in Heckbert's notation (core/light_paths.h), that a path tracer with these
 // settings counts.
 std::string pathTracerLightPaths(const PathTracerSettings& settings);
+
+// Whether a tracer with these settings renders a participating medium: it counts every path
+// (the corrected reuse does, in expectation: its correction traces what the solution lacks, the
+// medium's light too) and reads no caustic map (its photons do not cross the medium).
+bool tracesMedia(const PathTracerSettings& settings);
 
 // Russian roulette (Arvo and Kirk 1990): the probability with which the path tracer ends a path
 // after `depth` scattering events with throughput `beta` (survivors are divided by 1 - q); 0

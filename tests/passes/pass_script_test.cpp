@@ -157,7 +157,7 @@ TEST_F(PassScriptTest, UnknownTopLevelKey) {
               "height, spp, seed, output, environment, environment_scale, "
               "environment_rotation, environment_illuminance, sky, sky_illuminance, "
               "ground_reflectance, site, time, north, "
-              "sun_direct_normal, portals, pass, luminaire, medium");
+              "sun_direct_normal, portals, pipeline, pass, luminaire, medium");
     // A depth belongs to the path pass, not to the script.
     EXPECT_EQ(firstLine(error(kScene + "max_depth = 3\n" + kPath)).substr(0, 27),
               "2:1: max_depth: unknown key");
@@ -327,6 +327,23 @@ TEST_F(PassScriptTest, MissingPasses) {
               "1:1: pass: missing: a script needs at least o");
     EXPECT_EQ(firstLine(error(kScene + "[pass]\ntype = \"path\"\n")),
               "2:1: pass: expected [[pass]] tables (an array of tables), got a table");
+    // A built-in pipeline in their place, but not with them; its name must be a string.
+    EXPECT_EQ(firstLine(error(kScene + "pipeline = \"hybrid\"\n" + kPath)),
+              "2:12: pipeline: give either a built-in `pipeline` or [[pass]] tables, not both");
+    EXPECT_EQ(firstLine(error(kScene + "pipeline = 3\n")).substr(0, 32),
+              "2:12: pipeline: expected a strin");
+}
+
+// A built-in pipeline by name: the preset's passes, checked by name when the pipeline is made.
+TEST_F(PassScriptTest, ABuiltInPipeline) {
+    const PassScript script = loadPassScript(write(kScene + "pipeline = \"hybrid\"\n"));
+    EXPECT_TRUE(script.passes.empty());
+    const Pipeline pipeline = makeScriptPipeline(script);
+    EXPECT_EQ(pipeline.name(), "hybrid");
+    ASSERT_EQ(pipeline.passes().size(), 3u);
+    EXPECT_EQ(pipeline.passes()[2]->type(), "path");
+    EXPECT_EQ(firstLine(error(kScene + "pipeline = \"hybird\"\n")).substr(0, 59),
+              "2:12: pipeline: unknown pipeline 'hybird'; valid: reference");
 }
 
 TEST_F(PassScriptTest, MissingOrBadScene) {

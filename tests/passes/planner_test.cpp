@@ -76,8 +76,10 @@ TEST(Planner, PathTracerDeclarationsAreTheSetsTheyStandFor) {
     EXPECT_TRUE((lostToRadiosity - lostWithPhotons).shortestPaths(1) ==
                 std::vector<std::string>{"L S D D D E"});
     // The correction traces, in expectation, whatever the solution holds: nothing is lost, with a
-    // map at the reuse vertices or without, with photons in the solution or without.
-    EXPECT_TRUE(sameSet(PathSet::parse(pathTracerLightPaths(tracer(true, false, true))), kAll));
+    // map at the reuse vertices or without, with photons in the solution or without; without the
+    // caustic pass's share excluded, those of a medium too (V vertices), as the path tracer.
+    EXPECT_TRUE(sameSet(PathSet::parse(pathTracerLightPaths(tracer(true, false, true))),
+                        PathSet::parse("L(D|S|V)*E")));
     PathTracerSettings corrected = withPhotons;
     corrected.correctionProbability = PathTracerSettings::kDefaultCorrectionProbability;
     EXPECT_TRUE(sameSet(PathSet::parse(pathTracerLightPaths(corrected)), kAll - kCaustics));
@@ -299,9 +301,9 @@ TEST(Planner, SkipsWhatTheSceneDoesNotNeed) {
 }
 
 // A participating medium: its scattering events join the paths the scene can hold, which the
-// plain path tracer counts; a pipeline with a pass that does not render media is refused at the
-// first such pass, naming the one that does.
-TEST(Planner, OnlyThePlainPathTracerRendersAMediumAndWhittedPreviewsIt) {
+// plain path tracer and the corrected hybrid count; a pipeline with a pass that does not render
+// media is refused at the first such pass, naming those that do.
+TEST(Planner, ThePathTracerAndTheCorrectedHybridRenderAMediumAndWhittedPreviewsIt) {
     SceneContents foggy{true, true, 1, 0};
     foggy.medium = true;
     foggy.mediumScatters = true;
@@ -317,6 +319,22 @@ TEST(Planner, OnlyThePlainPathTracerRendersAMediumAndWhittedPreviewsIt) {
     smoky.mediumScatters = false;
     EXPECT_EQ(planForScene(reference, smoky).universe, "L(D|S)*E");
 
+    // The corrected hybrid: its solution is only reused, its path pass corrects whatever the
+    // solution holds, and its caustic pass, whose photons do not cross the medium, steps aside
+    // for the path pass, even for a point light (whose caustics the reference misses too).
+    for (const size_t punctual : {size_t(0), size_t(1)}) {
+        Pipeline corrected = makePipelinePreset("hybrid", RenderSettings{});
+        SceneContents lit = foggy;
+        lit.punctualLights = punctual;
+        const PipelinePlan correctedPlan = planForScene(corrected, lit);
+        EXPECT_TRUE(correctedPlan.warnings.empty()) << correctedPlan.warnings.front();
+        EXPECT_TRUE(corrected.skipped(0));
+        EXPECT_FALSE(corrected.skipped(1));
+        EXPECT_EQ(corrected.passes()[2]->lightPaths(), "L(D|S|V)*E");
+        const std::string skipped = correctedPlan.decisions.at(0);
+        EXPECT_NE(skipped.find("skipped: the scene has a medium"), std::string::npos) << skipped;
+    }
+    // The uncorrected reuse takes a solution that holds no scattered light: refused.
     Pipeline hybrid = hybridWithCaustics(PathPass::Caustics::Auto);
     ASSERT_FALSE(checkPipeline(hybrid).has_value());
     try {
@@ -324,11 +342,18 @@ TEST(Planner, OnlyThePlainPathTracerRendersAMediumAndWhittedPreviewsIt) {
         ADD_FAILURE() << "a medium was not refused";
     } catch (const UsageError& e) {
         const std::string message = e.what();
-        EXPECT_NE(message.find("hybrid: pass 1 (radiosity) does not render participating media"),
+        EXPECT_NE(message.find("hybrid: pass 2 (path) does not render participating media"),
                   std::string::npos)
             << message;
         EXPECT_NE(message.find("--pipeline reference"), std::string::npos) << message;
+        EXPECT_NE(message.find("--pipeline hybrid"), std::string::npos) << message;
     }
+    EXPECT_THROW(
+        {
+            Pipeline preview = makePipelinePreset("hybrid-preview", RenderSettings{});
+            planForScene(preview, foggy);
+        },
+        UsageError);
 
     // Whitted's pass with a constant ambient term previews the medium's single scattering: its
     // plan names what it leaves out, among it the surfaces' light the medium scatters (L D V E).

@@ -5,17 +5,21 @@
 // still converges to L, at any continuation probability; the uncorrected one gives exactly what
 // the wrong solution implies, and the correction it reports apart is the difference. Then the
 // same against the path tracer in a mirror room and with plastic walls, and which part of the
-// correction goes to the image's filter.
+// correction goes to the image's filter. Last, in participating media, where the solution holds
+// none of the medium's scattered light: the furnace's closed forms with a medium in it, and the
+// path tracer where specular chains follow scattering events.
 #include "core/path_components.h"
 #include "core/sampler.h"
 #include "core/scene.h"
 #include "raytrace/path_tracer.h"
 #include "tests/support/gltf_builder.h"
+#include "tests/support/medium_scenes.h"
 #include "tests/support/radiosity_scenes.h"
 #include "tests/support/sample_estimate.h"
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -49,7 +53,8 @@ class ConstantSolution : public ReusedSolution {
 };
 
 struct Estimates {
-    Estimate total, correction;
+    Estimate total, correction;           // of the green channel
+    std::array<Estimate, 3> channels;     // the total's, per channel
     int pathsWithFilteredCorrection = 0;  // paths that returned a non-zero correction
 };
 
@@ -64,7 +69,10 @@ Estimates tracePaths(const Scene& scene, const PathTracerSettings& settings,
     for (int i = 0; i < n; ++i) {
         sampler.startPixelSample(IVec2(i % 256, i / 256), 0);
         const PathRadiance L = tracer.Li(ray, sampler, nullptr, counters);
-        e.total.add(L.total().g);
+        const Color total = L.total();
+        e.total.add(total.g);
+        for (int c = 0; c < 3; ++c)
+            e.channels[size_t(c)].add(total[c]);
         e.correction.add(L.correction().g);
         e.pathsWithFilteredCorrection += L.correction() != Color(0.0f);
     }
@@ -242,6 +250,95 @@ TEST(CorrectedReuse, EveryFirstVertexHandsItsCorrectionToTheFilter) {
     const std::unique_ptr<Scene> matte = box(false);
     const Estimates filtered = tracePaths(*matte, reuse(0.5f), &none, towardsTheFloor, n);
     EXPECT_GT(filtered.pathsWithFilteredCorrection, n / 3);
+}
+
+// Participating media: no solution holds a medium's scattered light, so the correction traces it
+// (raytrace/path_tracer.h). A closed box of walls that emit Le and reflect rho, filled with a
+// medium of albedo 1, has the radiance Le / (1 - rho) everywhere (the furnace with a medium, as
+// in tests/raytrace/volumetric_path_tracer_test.cpp); reused with no solution or one three times
+// too bright, the corrected estimate keeps it, in an even medium and in puffs of smoke.
+TEST(CorrectedReuseInMedia, TheScatteringFurnaceHoldsItsRadianceWhateverTheSolution) {
+    GltfBuilder builder;
+    const int wall = builder.addMaterial(
+        {.baseColor = Color(kRho), .emissive = Color(1.0f), .emissiveStrength = kLe});
+    addClosedBox(builder, wall, wall);
+    for (const DensityField* density : {static_cast<const DensityField*>(nullptr), &kPuffs}) {
+        const std::unique_ptr<Scene> scene =
+            withMedium(builder, "corrected-reuse-scattering-furnace",
+                       MediumDesc{.name = "fog",
+                                  .sigmaA = Color(0.0f),
+                                  .sigmaS = Color(1.5f),
+                                  .g = 0.7f,
+                                  .box = Bounds3{Vec3(-1.0f), Vec3(1.0f)}},
+                       density);
+        for (const float solution : {0.0f, float(3.0 * kReflected)}) {
+            SCOPED_TRACE(std::string(density ? "puffs" : "even") + ", solution " +
+                         std::to_string(solution));
+            const ConstantSolution wrong(solution);
+            const Estimates e = tracePaths(*scene, reuse(0.5f), &wrong, kFurnaceRay, 65536);
+            expectMean(e.total, kRadiance, "corrected in a medium");
+        }
+    }
+}
+
+// Thermal equilibrium: walls that reflect rho and emit (1 - rho) Le around a medium that absorbs,
+// scatters and emits with Le give the radiance Le in every channel (Kirchhoff's law:
+// tests/support/medium_scenes.h), whatever the solution says of the walls.
+TEST(CorrectedReuseInMedia, AGlowingMediumStaysInEquilibriumWhateverTheSolution) {
+    const Color Le(1.0f, 2.0f, 0.5f);
+    const std::unique_ptr<Scene> scene =
+        withMedium(equilibriumBox(kRho, Le), "corrected-reuse-equilibrium", glowingMedium(Le));
+    for (const float solution : {0.0f, 3.0f}) {
+        const ConstantSolution wrong(solution);
+        const Estimates e = tracePaths(*scene, reuse(0.5f), &wrong, kFurnaceRay, 32768);
+        for (int c = 0; c < 3; ++c) {
+            const Estimate& L = e.channels[size_t(c)];
+            std::printf("solution %.1f, channel %d: %.5f +- %.5f (exact %.5f)\n", solution, c,
+                        L.mean(), L.standardError(), Le[c]);
+            EXPECT_NEAR(L.mean(), Le[c], kStandardErrors * L.standardError()) << "channel " << c;
+            EXPECT_LT(L.standardError(), 0.01 * Le[c]) << "channel " << c;
+        }
+    }
+}
+
+// Against the path tracer, with no solution at all: the smoky room (a point light above
+// chromatic smoke, where light scatters many times), and a room with a mirror ceiling in a haze,
+// where paths scatter in the haze and then meet the mirror (the base counts the light the mirror
+// brings them, the correction what comes before: neither twice).
+TEST(CorrectedReuseInMedia, MatchesThePathTracer) {
+    struct Case {
+        const char* name;
+        std::unique_ptr<Scene> scene;
+        Ray ray;
+    };
+    GltfBuilder mirrorRoom;
+    addMirrorCeilingRoom(mirrorRoom);
+    Case cases[] = {
+        {"smoky room", withMedium(smokyRoom(), "corrected-reuse-smoky-room", kLowSmoke),
+         kIntoTheSmoke},
+        {"mirror ceiling in haze",
+         withMedium(mirrorRoom, "corrected-reuse-hazy-mirror-ceiling",
+                    MediumDesc{.name = "haze",
+                               .sigmaA = Color(0.05f, 0.1f, 0.2f),
+                               .sigmaS = Color(0.4f),
+                               .g = 0.3f,
+                               .box = std::nullopt}),
+         Ray{Vec3(0.0f, -0.2f, 0.5f), glm::normalize(Vec3(0.0f, -1.0f, 0.2f))}},
+    };
+    const ConstantSolution none(0.0f);
+    for (const Case& c : cases) {
+        constexpr int n = 1 << 18;
+        const Estimates pathTracer = tracePaths(*c.scene, PathTracerSettings{}, nullptr, c.ray, n);
+        const Estimates corrected = tracePaths(*c.scene, reuse(0.5f), &none, c.ray, n);
+        for (size_t k = 0; k < 3; ++k) {
+            const Estimate &a = corrected.channels[k], &b = pathTracer.channels[k];
+            std::printf("%s, channel %zu: corrected %.5f +- %.5f, path tracer %.5f +- %.5f\n",
+                        c.name, k, a.mean(), a.standardError(), b.mean(), b.standardError());
+            const double error = std::hypot(a.standardError(), b.standardError());
+            EXPECT_NEAR(a.mean(), b.mean(), kStandardErrors * error) << c.name << " " << k;
+            EXPECT_LT(error, 0.01 * b.mean()) << c.name << " " << k;
+        }
+    }
 }
 
 }  // namespace

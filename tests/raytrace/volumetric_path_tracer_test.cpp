@@ -92,27 +92,14 @@ TEST(VolumetricPathTracer, AScatteringFurnaceHoldsItsRadiance) {
 // Thermal equilibrium (Kirchhoff's law, the radiative transfer equation's furnace with emission):
 // walls that reflect rho and emit (1 - rho) Le, around a medium that absorbs, scatters and emits
 // sigma_a Le per metre (core/medium.h), give the radiance Le everywhere, in every direction,
-// whatever the density, the albedo and the phase function: what each part absorbs of a field of
-// radiance Le, it emits again.
+// whatever the density, the albedo and the phase function (tests/support/medium_scenes.h).
 TEST(VolumetricPathTracer, AGlowingMediumInAFurnaceIsInEquilibrium) {
-    constexpr float kRho = 0.4f;
     const Color Le(1.0f, 2.0f, 0.5f);
-    GltfBuilder builder;
-    const int wall = builder.addMaterial({.baseColor = Color(kRho),
-                                          .emissive = (1.0f - kRho) * Le / 2.0f,
-                                          .emissiveStrength = 2.0f});
-    addClosedBox(builder, wall, wall);
+    const GltfBuilder builder = equilibriumBox(0.4f, Le);
     for (const DensityField* density : {static_cast<const DensityField*>(nullptr), &kPuffs}) {
         SCOPED_TRACE(density ? "puffs" : "even");
         const std::unique_ptr<Scene> scene =
-            withMedium(builder, "volumetric-equilibrium",
-                       MediumDesc{.name = "glow",
-                                  .sigmaA = Color(0.6f, 0.3f, 1.0f),
-                                  .sigmaS = Color(0.8f),
-                                  .g = 0.5f,
-                                  .emission = Le,
-                                  .box = Bounds3{Vec3(-1.0f), Vec3(1.0f)}},
-                       density);
+            withMedium(builder, "volumetric-equilibrium", glowingMedium(Le), density);
         const PathTracer tracer(*scene, PathTracerSettings{});
         Sampler sampler(3);
         PathCounters counters;

@@ -56,6 +56,23 @@ const MediumDesc kLowSmoke{.name = "smoke",
                            .box = Bounds3{Vec3(-1.0f), Vec3(1.0f, 0.0f, 1.0f)}};
 const Ray kIntoTheSmoke{Vec3(0.0f, 0.0f, 0.9f), glm::normalize(Vec3(0.2f, -0.3f, -1.0f))};
 
+GltfBuilder equilibriumBox(float rho, const Color& Le) {
+    GltfBuilder builder;
+    const int wall = builder.addMaterial(
+        {.baseColor = Color(rho), .emissive = (1.0f - rho) * Le / 2.0f, .emissiveStrength = 2.0f});
+    addClosedBox(builder, wall, wall);
+    return builder;
+}
+
+MediumDesc glowingMedium(const Color& Le) {
+    return MediumDesc{.name = "glow",
+                      .sigmaA = Color(0.6f, 0.3f, 1.0f),
+                      .sigmaS = Color(0.8f),
+                      .g = 0.5f,
+                      .emission = Le,
+                      .box = Bounds3{Vec3(-1.0f), Vec3(1.0f)}};
+}
+
 GltfBuilder lampAtTheOrigin() {
     GltfBuilder builder;
     const int black = builder.addMaterial({.baseColor = Color(0.0f)});

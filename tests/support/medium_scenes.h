@@ -38,6 +38,13 @@ GltfBuilder smokyRoom();
 extern const MediumDesc kLowSmoke;
 extern const Ray kIntoTheSmoke;
 
+// Thermal equilibrium (Kirchhoff's law): the closed box [-1, 1]^3 of walls that reflect rho and
+// emit (1 - rho) Le, and a medium in it that absorbs, scatters (g = 0.5) and emits with Le, give
+// the radiance Le everywhere, in every direction: what each part absorbs of a field of radiance
+// Le, it emits again.
+GltfBuilder equilibriumBox(float rho, const Color& Le);
+MediumDesc glowingMedium(const Color& Le);
+
 // A point lamp of kLampIntensity candela at the origin and, to have something to load, a black
 // quad far below, out of the medium and the rays' way.
 constexpr float kLampIntensity = 10.0f;
