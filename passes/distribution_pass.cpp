@@ -27,6 +27,10 @@ void whittedKeys(Settings& s, Ambient& ambient, Keys& keys) {
     keys.orWord("ambient", ambient, "radiosity", kAmbientFromSolution, 0.0f,
                 std::numeric_limits<float>::max());
     keys("medium_steps", s.mediumSteps, 1, 1024);
+    keys.choice("medium", s.mediumPreview,
+                NamedValues<DistributionSettings::MediumPreview>{
+                    {"single-scattering", DistributionSettings::MediumPreview::SingleScattering},
+                    {"linear-fog", DistributionSettings::MediumPreview::LinearFog}});
 }
 
 }  // namespace

@@ -37,11 +37,14 @@ class DistributionPass : public SamplingPass {
     }
     // The user's ambient constant stands for no light path: the plan names L D D+ as missing. The
     // radiosity solution's mean stands, crudely, for the indirect light it averages. Whitted's
-    // pass previews a medium: its single scattering of the lights (L V S* E).
+    // pass previews a medium: its single scattering of the lights (L V S* E), or as a linear fog,
+    // which, like the ambient term, counts no light path.
     std::string lightPaths() const override {
-        return ambient_ == Ambient::Constant
-                   ? "L S* E | L D S* E | L V S* E"
-                   : distributionLightPaths(causticsInRadiosity_, specularTransfer_);
+        if (ambient_ != Ambient::Constant)
+            return distributionLightPaths(causticsInRadiosity_, specularTransfer_);
+        return settings_.mediumPreview == DistributionSettings::MediumPreview::LinearFog
+                   ? "L S* E | L D S* E"
+                   : "L S* E | L D S* E | L V S* E";
     }
     // Whitted's pass with a constant ambient term attenuates every ray by the medium and adds its
     // single scattering (DistributionSettings::mediumSteps); the radiosity solution, which the

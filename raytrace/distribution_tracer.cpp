@@ -40,7 +40,13 @@ Color DistributionTracer::glossyIndirect(const SurfaceHit& hit, const Bsdf& bsdf
 
 PathRadiance DistributionTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHit,
                                     PathCounters& counters) const {
-    const SpecularChainSettings chain{settings_.maxSpecularDepth, true, settings_.mediumSteps};
+    const bool linearFog =
+        settings_.mediumPreview == DistributionSettings::MediumPreview::LinearFog;
+    const SpecularChainSettings chain{
+        .maxSpecularDepth = settings_.maxSpecularDepth,
+        .countEmission = true,
+        .mediumSteps = settings_.mediumSteps,
+        .linearFogAmbient = linearFog ? std::optional(settings_.ambient) : std::nullopt};
     return traceSpecularChain(
         scene_, ray, sampler, firstHit, counters, chain,
         [this](const SurfaceHit& hit, const Bsdf& bsdf, const Vec3& wo, Sampler& vertexSampler,

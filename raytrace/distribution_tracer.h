@@ -42,6 +42,9 @@ struct DistributionSettings {
     // once (raytrace/single_scattering.h): the `whitted` pass's medium preview, which also
     // attenuates what lies behind; the planner keeps the `distribution` pass from media.
     int mediumSteps = 8;
+    // Or the seed's linear fog, lit by the ambient term (raytrace/linear_fog.h), in its place.
+    enum class MediumPreview { SingleScattering, LinearFog };
+    MediumPreview mediumPreview = MediumPreview::SingleScattering;
 };
 
 // The light paths distribution ray tracing counts with a radiosity solution's indirect part as

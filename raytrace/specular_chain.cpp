@@ -2,6 +2,7 @@
 
 #include "core/sampler.h"
 #include "core/surface_crossing.h"
+#include "raytrace/linear_fog.h"
 #include "raytrace/single_scattering.h"
 #include "raytrace/tracing_steps.h"
 
@@ -23,7 +24,12 @@ PathRadiance traceSpecularChain(const Scene& scene, Ray ray, Sampler& sampler, F
         const std::optional<Medium::Span> span = medium && !(hit && insideSolid(scene, *hit, ray.d))
                                                      ? medium->span(ray, hit ? hit->t : INFINITY)
                                                      : std::nullopt;
-        if (span) {
+        if (span && settings.linearFogAmbient) {
+            const LinearFog fog = linearFog(*medium, ray, *span, *settings.linearFogAmbient);
+            L[specularDepth == 0 ? PathComponent::Indirect : PathComponent::Specular] +=
+                beta * fog.radiance;
+            beta *= fog.transmittance;
+        } else if (span) {
             L[pathComponent(specularDepth + 1, specularDepth > 0)] +=
                 beta * marchSingleScattering(scene, *medium, ray, *span, settings.mediumSteps,
                                              sampler, counters);

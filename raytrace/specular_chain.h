@@ -10,7 +10,9 @@
 //
 // With `mediumSteps`, each segment of the chain through the participating medium adds the light
 // the medium scatters once into it (raytrace/single_scattering.h) and its emission, and
-// attenuates what lies behind by its transmittance (L V S* E; multiple scattering is left out).
+// attenuates what lies behind by its transmittance (L V S* E; multiple scattering is left out);
+// or, with `linearFogAmbient`, the seed's linear fog does both (raytrace/linear_fog.h; filed
+// with the ambient term, as indirect light, or as specular past a specular vertex).
 //
 // Components (core/path_components.h): emission at the first hit is emission, the caller's term
 // at the first vertex keeps its own split, and everything seen after a specular vertex is
@@ -23,6 +25,7 @@
 #include "raytrace/path_tracer.h"
 
 #include <functional>
+#include <optional>
 
 namespace penumbra {
 
@@ -40,6 +43,9 @@ struct SpecularChainSettings {
     // Points marched per segment through the medium for its single scattering; 0: the chain
     // ignores the medium (for a caller the planner keeps from scenes with one).
     int mediumSteps = 0;
+    // With mediumSteps > 0 and a value: the seed's linear fog in place of the single scattering,
+    // lit by this ambient radiance (raytrace/linear_fog.h).
+    std::optional<Color> linearFogAmbient = std::nullopt;
 };
 
 // Radiance (cd/m²) arriving along -ray.d at the ray's origin (contract of PathTracer::Li).

@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 #include <openvdb/openvdb.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -190,6 +191,31 @@ TEST(Media, TheHybridRendersAGlowingFurnaceInEquilibrium) {
                         "bad.toml:2:12: pipeline: unknown pipeline 'hybird'");
     expectScriptRefused("[[pass]]\ntype = \"path\"\n", "--pipeline hybrid",
                         "--pipeline cannot be combined with a pass script that lists [[pass]]");
+}
+
+// Whitted's pass with the seed's linear fog (raytrace/linear_fog.h): through the slab, now also
+// scattering and glowing, the panel keeps max(0, 1 - tau / 2) of its radiance, tau the slab's
+// optical thickness, and the fog adds the rest of L_a = (sigma_s A + sigma_a Le) / sigma_t, A the
+// ambient radiance: exactly, per channel, one of them (tau = 2.25) wholly fogged.
+TEST(Media, WhittedsLinearFogIsTheSeedsFormula) {
+    TempDir dir("media-linear-fog");
+    writeScene(dir);
+    writeScript(dir, "[[pass]]\ntype = \"whitted\"\nambient = 0.5\nmedium = \"linear-fog\"\n",
+                kSlab + "sigma_s = 0.5\nemission = [1.0, 2.0, 0.5]\n");
+    const Image image =
+        renderImage(dir.file("scene.toml"), dir.file("fog.exr"), "--width 8 --height 8 --spp 1");
+    const double sigmaA[3] = {0.1, 0.4, 1.0}, Le[3] = {1.0, 2.0, 0.5};
+    for (int c = 0; c < 3; ++c) {
+        const double sigmaT = sigmaA[c] + 0.5;
+        const double T = std::max(0.0, 1.0 - sigmaT * 1.5 / 2.0);
+        const double La = (0.5 * 0.5 + sigmaA[c] * Le[c]) / sigmaT;
+        EXPECT_NEAR(regionMean(image, c, 0, 0, 8, 8), 3.0 * T + (1.0 - T) * La, 1e-4 * 3.0)
+            << "channel " << c;
+    }
+    writeScript(dir, "[[pass]]\ntype = \"whitted\"\nmedium = \"fog\"\n", kSlab);
+    expectRefused(dir,
+                  "scene.toml:4:10: pass[0].medium: unknown value 'fog'; valid: "
+                  "single-scattering, linear-fog");
 }
 
 TEST(Media, PipelinesWithoutMediaRefuseTheScene) {
