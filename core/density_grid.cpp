@@ -18,10 +18,20 @@ DensityGrid::DensityGrid(const Bounds3& box, const glm::ivec3& nodes, std::vecto
         for (int y = 0; y + 1 < nodes_.y; ++y)
             for (int x = 0; x + 1 < nodes_.x; ++x) {
                 const Cell c = cellAt({x, y, z});
-                emptyCells_[index(x, y, z)] = std::all_of(
-                    std::begin(c.corners), std::end(c.corners), [](float v) { return v == 0.0f; });
+                const bool empty = std::all_of(std::begin(c.corners), std::end(c.corners),
+                                               [](float v) { return v == 0.0f; });
+                emptyCells_[index(x, y, z)] = empty;
+                if (!empty) {
+                    for (EmptyBlocks* blocks : {&coarseBlocks_, &fineBlocks_})
+                        blocks->empty[blocks->index({x, y, z})] = false;
+                }
             }
 }
+
+DensityGrid::EmptyBlocks::EmptyBlocks(int size, const glm::ivec3& cells)
+    : size(size),
+      blocks((cells - 1) / size + 1),
+      empty(size_t(blocks.x) * size_t(blocks.y) * size_t(blocks.z), true) {}
 
 DensityGrid::Cell DensityGrid::cellAt(const glm::ivec3& index) const {
     Cell c{index, {}};
@@ -60,32 +70,76 @@ float DensityGrid::cellIntegral(const Ray& ray, float ta, float tb, const Cell& 
 
 template <typename Visit>
 void DensityGrid::forEachCell(const Ray& ray, float t0, float t1, Visit&& visit) const {
-    // The cell of the segment's midpoint-side start, then the parameters at which the ray crosses
-    // the next lattice plane on each axis.
-    const Vec3 g = (ray.o + t0 * ray.d - box_.lo) / cellSize_;
-    glm::ivec3 current = glm::clamp(glm::ivec3(glm::floor(g)), glm::ivec3(0), nodes_ - 2);
-    Vec3 tNext, tStep;
+    // The direction of the steps and their length in t on each axis.
+    Vec3 tStep;
     glm::ivec3 step;
     for (int axis = 0; axis < 3; ++axis) {
         const float d = ray.d[axis];
-        if (d > 0.0f) {
-            step[axis] = 1;
-            tStep[axis] = cellSize_[axis] / d;
-            tNext[axis] =
-                (box_.lo[axis] + float(current[axis] + 1) * cellSize_[axis] - ray.o[axis]) / d;
-        } else if (d < 0.0f) {
-            step[axis] = -1;
-            tStep[axis] = -cellSize_[axis] / d;
-            tNext[axis] =
-                (box_.lo[axis] + float(current[axis]) * cellSize_[axis] - ray.o[axis]) / d;
-        } else {
-            step[axis] = 0;
-            tStep[axis] = INFINITY;
-            tNext[axis] = INFINITY;
-        }
+        step[axis] = d > 0.0f ? 1 : (d < 0.0f ? -1 : 0);
+        tStep[axis] = d != 0.0f ? cellSize_[axis] / std::abs(d) : INFINITY;
     }
+    // The parameter at which the ray crosses the lattice plane `plane` (in node units) of `axis`.
+    const auto crossing = [&](int axis, int plane) {
+        return (box_.lo[axis] + float(plane) * cellSize_[axis] - ray.o[axis]) / ray.d[axis];
+    };
+    // The cell of the start, then the parameters at which the ray crosses the next lattice plane
+    // on each axis.
+    const Vec3 g = (ray.o + t0 * ray.d - box_.lo) / cellSize_;
+    glm::ivec3 current = glm::clamp(glm::ivec3(glm::floor(g)), glm::ivec3(0), nodes_ - 2);
+    Vec3 tNext;
+    const auto planesAhead = [&] {
+        for (int axis = 0; axis < 3; ++axis)
+            tNext[axis] =
+                step[axis] == 0 ? INFINITY : crossing(axis, current[axis] + (step[axis] > 0));
+    };
+    planesAhead();
     float t = t0;
     while (t < t1) {
+        const EmptyBlocks* across = nullptr;
+        if (emptyCells_[index(current.x, current.y, current.z)])
+            across = coarseBlocks_.holds(current)
+                         ? &coarseBlocks_
+                         : (fineBlocks_.holds(current) ? &fineBlocks_ : nullptr);
+        if (across) {
+            // Across the empty block: to the first of its faces ahead the ray crosses, and into
+            // the cell behind that face.
+            const int size = across->size;
+            const glm::ivec3 first = (current / size) * size;
+            float exit = INFINITY;
+            int exitAxis = 0;
+            for (int axis = 0; axis < 3; ++axis) {
+                if (step[axis] == 0)
+                    continue;
+                const int plane =
+                    step[axis] > 0 ? std::min(first[axis] + size, nodes_[axis] - 1) : first[axis];
+                const float at = crossing(axis, plane);
+                if (at < exit) {
+                    exit = at;
+                    exitAxis = axis;
+                }
+            }
+            if (!(exit < t1))
+                return;
+            t = std::max(t, exit);
+            // The cell there; along each axis the DDA never steps back (rounding at a corner
+            // must not return it to the block it left), and across the exit face it steps on.
+            const Vec3 there = (ray.o + t * ray.d - box_.lo) / cellSize_;
+            const glm::ivec3 found =
+                glm::clamp(glm::ivec3(glm::floor(there)), glm::ivec3(0), nodes_ - 2);
+            for (int axis = 0; axis < 3; ++axis) {
+                if (step[axis] > 0)
+                    current[axis] = std::max(current[axis], found[axis]);
+                else if (step[axis] < 0)
+                    current[axis] = std::min(current[axis], found[axis]);
+            }
+            current[exitAxis] = step[exitAxis] > 0
+                                    ? std::min(first[exitAxis] + size, nodes_[exitAxis] - 1)
+                                    : first[exitAxis] - 1;
+            if (current[exitAxis] < 0 || current[exitAxis] > nodes_[exitAxis] - 2)
+                return;
+            planesAhead();
+            continue;
+        }
         const int axis =
             tNext.x < tNext.y ? (tNext.x < tNext.z ? 0 : 2) : (tNext.y < tNext.z ? 1 : 2);
         // Rounding may put the first crossing a hair before t: the piece is then empty.

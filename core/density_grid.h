@@ -59,7 +59,9 @@ class DensityGrid {
     Cell cellAt(const glm::ivec3& index) const;
     // Calls visit(ta, tb, cell) for each piece [ta, tb] of [t0, t1] inside one lattice cell, in
     // order, until visit returns false (a 3-D DDA: Amanatides and Woo 1987); cells whose nodes
-    // are all zero are stepped over without a call.
+    // are all zero are stepped over without a call, and a block of such cells, 32^3 or else 8^3,
+    // is crossed in one step (the DDA starts again where the ray leaves it), so that the empty
+    // space of a sparse grid (a cloud in a large box) costs a step per block, not per cell.
     template <typename Visit>
     void forEachCell(const Ray& ray, float t0, float t1, Visit&& visit) const;
     // The exact integral over a piece within one cell (the Gauss-Legendre rule of the header).
@@ -73,6 +75,19 @@ class DensityGrid {
     Vec3 cellSize_;
     std::vector<float> values_;
     std::vector<bool> emptyCells_;  // per cell, indexed as the nodes: all eight nodes zero
+    // Which blocks of `size`^3 cells hold only empty cells (the last block on an axis partial).
+    struct EmptyBlocks {
+        EmptyBlocks(int size, const glm::ivec3& cells);
+        size_t index(const glm::ivec3& cell) const {
+            const glm::ivec3 b = cell / size;
+            return (size_t(b.z) * size_t(blocks.y) + size_t(b.y)) * size_t(blocks.x) + size_t(b.x);
+        }
+        bool holds(const glm::ivec3& cell) const { return empty[index(cell)]; }
+        int size;
+        glm::ivec3 blocks;
+        std::vector<bool> empty;
+    };
+    EmptyBlocks coarseBlocks_{32, nodes_ - 1}, fineBlocks_{8, nodes_ - 1};
     float maxValue_ = 0.0f;
 };
 
