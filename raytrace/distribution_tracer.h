@@ -19,10 +19,13 @@
 //
 // With a constant ambient term (Whitted's pass) the chain also previews a participating medium:
 // its single scattering L V S* E (raytrace/single_scattering.h, DistributionSettings::mediumSteps)
-// and its attenuation of every ray. Light paths: L S* E | L D S* E | L D D+ S* E. Left out:
-// caustics (L S+ D ...), diffuse light reaching the visible surface through mirrors (L D+ S+ D
-// ...): see docs/light-paths.md. The glossy reflection of other glossy surfaces is that of their
-// radiosity, i.e. spread as Lambertian.
+// and its attenuation of every ray, or the seed's linear fog in their place, which counts no
+// light path (raytrace/linear_fog.h, DistributionSettings::mediumPreview).
+//
+// Light paths: L S* E | L D S* E | L D D+ S* E. Left out: caustics (L S+ D ...), diffuse light
+// reaching the visible surface through mirrors (L D+ S+ D ...): see docs/light-paths.md. The
+// glossy reflection of other glossy surfaces is that of their radiosity, i.e. spread as
+// Lambertian.
 #pragma once
 
 #include "raytrace/path_tracer.h"
