@@ -29,10 +29,10 @@ constexpr size_t kMaxTargets = 64;
 constexpr int kRouletteStartDepth = 3;
 constexpr float kMinTerminationProbability = 0.05f;
 
-// Whether the BSDF of any triangle of the mesh has a delta lobe. The material's textures can
-// change the lobes (a roughness map), so a textured material is checked at every triangle's
-// centroid; an untextured one at its first triangle.
-bool hasSpecularLobe(const Scene& scene, uint32_t meshIndex) {
+// Whether the BSDF of any triangle of the mesh has a delta lobe (or, with `sharpGlossy`, a sharp
+// glossy one). The material's textures can change the lobes (a roughness map), so a textured
+// material is checked at every triangle's centroid; an untextured one at its first triangle.
+bool hasSpecularLobe(const Scene& scene, uint32_t meshIndex, bool sharpGlossy) {
     const Mesh& mesh = scene.meshes()[meshIndex];
     const Material& m = scene.materials()[mesh.material];
     const bool textured = m.metallicRoughnessTexture.valid() || m.transmissionTexture.valid();
@@ -40,7 +40,8 @@ bool hasSpecularLobe(const Scene& scene, uint32_t meshIndex) {
         textured ? mesh.triangles.size() : std::min<size_t>(1, mesh.triangles.size());
     for (uint32_t t = 0; t < count; ++t) {
         const SurfaceHit hit = scene.surfaceAt(meshIndex, t, Vec3(1.0f / 3.0f));
-        if (scene.bsdf(hit).lobes() & kLobeSpecular)
+        const Bsdf bsdf = scene.bsdf(hit);
+        if ((bsdf.lobes() & kLobeSpecular) || (sharpGlossy && bsdf.hasSharpGlossyLobe()))
             return true;
     }
     return false;
@@ -54,13 +55,14 @@ Sphere aimSphere(const Mesh& mesh) {
     return s;
 }
 
-// The spheres photons are aimed at: one per mesh with a delta lobe, or one around all of them.
-std::vector<Sphere> aimTargets(const Scene& scene, int& specularMeshes) {
+// The spheres photons are aimed at: one per mesh with a delta (or sharp glossy) lobe, or one
+// around all of them.
+std::vector<Sphere> aimTargets(const Scene& scene, bool sharpGlossy, int& specularMeshes) {
     std::vector<Sphere> targets;
     Bounds3 all;
     for (uint32_t m = 0; m < scene.meshes().size(); ++m) {
         const Mesh& mesh = scene.meshes()[m];
-        if (mesh.triangles.empty() || !hasSpecularLobe(scene, m))
+        if (mesh.triangles.empty() || !hasSpecularLobe(scene, m, sharpGlossy))
             continue;
         targets.push_back(aimSphere(mesh));
         for (const Vec3& p : mesh.positions)
@@ -259,6 +261,7 @@ class Tracer {
 
     void followPath(Ray ray, Color beta, Sampler& sampler, ChunkResult& out) const {
         int specularVertices = 0;
+        int sharpGlossyVertices = 0;  // among them
         int transparentLayers = 0;
         bool firstSurface = true;
         while (true) {
@@ -278,29 +281,36 @@ class Tracer {
                 ray = Scene::spawnRay(*hit, ray.d);
                 continue;
             }
+            const bool sharpGlossy = settings_.throughSharpGlossy && bsdf.hasSharpGlossyLobe();
             if (firstSurface) {
                 firstSurface = false;
-                if (bsdf.lobes() & kLobeSpecular)
+                if ((bsdf.lobes() & kLobeSpecular) || sharpGlossy)
                     ++out.aimedAtSpecular;
             }
 
             // Store at a D surface after at least one S vertex, on a side that reflects.
             const bool front = hit->frontFace(ray.d);
             if (specularVertices > 0 && bsdf.hasNonDeltaLobe() &&
-                (front || scene_.material(*hit).doubleSided)) {
+                (front || scene_.material(*hit).doubleSided) &&
+                (!settings_.onlyThroughSharpGlossy || sharpGlossyVertices > 0)) {
                 out.photons.push_back(Photon{hit->p, wo, beta, front ? hit->ng : -hit->ng,
                                              hit->mesh, hit->triangle, hit->barycentric});
             }
             if (specularVertices >= settings_.maxSpecularBounces)
                 return;
 
-            // Continue through S vertices only.
+            // Continue through S vertices only: a delta lobe's sample, or a sharp glossy lobe's
+            // share of any sample (fGlossy over the mixture's pdf, whichever strategy drew wi).
             const float uLobe = sampler.get1D();
             const Vec2 u = sampler.get2D();
             const std::optional<BsdfSample> bs =
                 bsdf.sample(wo, uLobe, u, TransportMode::Importance);
-            if (!bs || !bs->isDelta() || !(bs->pdf > 0.0f))
+            if (!bs || !(bs->pdf > 0.0f) || !(bs->isDelta() || sharpGlossy))
                 return;
+            const Color f =
+                bs->isDelta() ? bs->f : bsdf.fGlossy(wo, bs->wi, TransportMode::Importance);
+            if (!bs->isDelta())
+                ++sharpGlossyVertices;
             const Vec3& ns = bsdf.shadingNormal();
             const float cosWiNs = std::abs(glm::dot(bs->wi, ns));
             const float cosWoNg = std::abs(glm::dot(wo, hit->ng));
@@ -309,7 +319,7 @@ class Tracer {
             // The adjoint BSDF with shading normals (Veach 1997, "Robust Monte Carlo Methods for
             // Light Transport Simulation", section 5.3): importance is scattered by
             // f |wo.ns| |wi.ng| / |wo.ng| rather than f |wi.ns|.
-            Color next = beta * bs->f * (cosWiNs / bs->pdf) *
+            Color next = beta * f * (cosWiNs / bs->pdf) *
                          (std::abs(glm::dot(wo, ns)) * std::abs(glm::dot(bs->wi, hit->ng)) /
                           (cosWoNg * cosWiNs));
             ++specularVertices;
@@ -371,7 +381,8 @@ PhotonTraceResult tracePhotons(const Scene& scene, const PhotonTracerSettings& s
     PhotonTraceResult result;
     for (const auto& light : scene.lights())
         result.emittedPower += light->power();
-    std::vector<Sphere> targets = aimTargets(scene, result.specularMeshes);
+    std::vector<Sphere> targets =
+        aimTargets(scene, settings.throughSharpGlossy, result.specularMeshes);
     if (targets.empty() || scene.lights().empty() || settings.photons == 0)
         return result;
     shoot(Tracer(scene, settings, std::move(targets)), settings, progress, result);
@@ -384,7 +395,8 @@ PhotonTraceResult tracePhotonsFromSurfaces(const Scene& scene, const SurfaceEmit
                                            Progress* progress) {
     PhotonTraceResult result;
     result.emittedPower = emittedPower;
-    std::vector<Sphere> targets = aimTargets(scene, result.specularMeshes);
+    std::vector<Sphere> targets =
+        aimTargets(scene, settings.throughSharpGlossy, result.specularMeshes);
     if (targets.empty() || !(maxComponent(emittedPower) > 0.0f) || settings.photons == 0)
         return result;
     shoot(Tracer(scene, settings, std::move(targets), &emitter), settings, progress, result);

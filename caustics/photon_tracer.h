@@ -39,7 +39,10 @@
 // ones (paths D S+ D: the seed's extended form factors for mirror-like surfaces, estimated by
 // photons; Wallace, Cohen and Greenberg 1987 traced them with image form factors through planar
 // mirrors, Sillion and Puech 1989 with rays). The aiming, the storage rule and the power are as
-// above, the points' radiance in place of the lights'.
+// above, the points' radiance in place of the lights'. For such a solution the photons may also
+// take the sharp glossy lobes (a polished floor) as S vertices (PhotonTracerSettings::
+// throughSharpGlossy): the solution then leaves those lobes out of its reflectance, and the
+// photons, from its surfaces and from the lights, carry their reflection to where it lands.
 #pragma once
 
 #include "core/math.h"
@@ -73,6 +76,15 @@ struct PhotonTracerSettings {
     // (progressive photon mapping) continue one sequence; indices wrap after 2^32.
     uint64_t firstIndex = 0;
     int maxSpecularBounces = 64;  // a bound on S vertices, after Russian roulette
+    // Sharp glossy lobes (Bsdf::hasSharpGlossyLobe) carry a photon on as delta lobes do, each
+    // such vertex an S vertex of the rules above, weighed by the glossy lobes alone (fGlossy
+    // over the sample's pdf: the Lambertian layer's share is the surface's own, stored there);
+    // their meshes are aimed at too. For a radiosity solution that does not spread them
+    // (passes/specular_transfer.h); the caustic map holds L S+ D with delta lobes only.
+    bool throughSharpGlossy = false;
+    // With it, only photons that passed a sharp glossy vertex are stored: those from the lights
+    // through delta lobes alone are the caustic pass's.
+    bool onlyThroughSharpGlossy = false;
 };
 
 struct PhotonTraceResult {
@@ -81,7 +93,7 @@ struct PhotonTraceResult {
     // Photons whose first scattering surface (after any transparency passed straight through)
     // has a delta lobe: those aimed well.
     uint64_t aimedAtSpecular = 0;
-    int specularMeshes = 0;    // meshes with a delta lobe, which photons are aimed at
+    int specularMeshes = 0;    // meshes with a delta (or sharp glossy) lobe, aimed at
     Color emittedPower{0.0f};  // total power of the lights, lm
     Color storedPower{0.0f};   // sum of the stored photons' power, lm
 };

@@ -448,11 +448,13 @@ Color Bsdf::matteReflectance() const {
            glm::max(Color(1.0f) - albedoAvg_, 0.0f);
 }
 
-Color Bsdf::diffuseGlossyReflectance() const {
+Color Bsdf::diffuseGlossyReflectance(bool withSharpGlossy) const {
     const float m = params_.metallic;
     Color rho = matteReflectance();
     if (smooth_)
         return rho;  // the reflection lobes are deltas
+    if (!withSharpGlossy && hasSharpGlossyLobe())
+        return rho;
     // The dielectric reflection has the same GGX lobe in the opaque and the glass terms; the
     // metal's Fresnel is Schlick with F0 = baseColor.
     rho += (1.0f - m) * albedoAvg_;

@@ -72,6 +72,18 @@ class Bsdf {
     uint32_t lobes() const { return lobes_; }
     bool hasNonDeltaLobe() const { return (lobes_ & (kLobeDiffuse | kLobeGlossy)) != 0; }
 
+    // Rough glossy lobes at most this wide (GGX alpha; roughness about 0.22) are sharp: a lobe's
+    // width in radians is about its alpha, so what such a surface reflects from a metre away is
+    // blurred over a few centimetres, less than a radiosity element there. It reflects an image
+    // of the room (a polished floor), which spreading its reflection as Lambertian, as a solution
+    // does for rough lobes, puts in the wrong places.
+    static constexpr float kSharpGlossyAlpha = 0.05f;
+    // Whether this point's glossy lobes (GGX reflection, and rough refraction) are sharp: not
+    // deltas, alpha at most kSharpGlossyAlpha.
+    bool hasSharpGlossyLobe() const {
+        return (lobes_ & kLobeGlossy) && alpha_ <= kSharpGlossyAlpha;
+    }
+
     // Thin-walled transmission (KHR_materials_volume thickness 0): the light that passes
     // straight through, not bent, per channel, for light arriving along -wo. Tracers treat it as
     // transparency (a shadow ray's transmittance, a path continuing unchanged), not as a
@@ -88,8 +100,10 @@ class Bsdf {
     // transmission) baseColor (1 - E_avg), E_avg being the average albedo of the dielectric
     // specular layer above it; when that layer is rough it adds (1 - metallic) E_avg, and a rough
     // metal adds metallic E_avg(Schlick(baseColor)). Delta (S) lobes and transmission are left
-    // out: they are the ray tracer's.
-    Color diffuseGlossyReflectance() const;
+    // out: they are the ray tracer's. Without `withSharpGlossy`, the sharp glossy lobes' part
+    // (hasSharpGlossyLobe) is left out too: for a radiosity solution that carries their
+    // reflection by photons instead of spreading it (passes/specular_transfer.h).
+    Color diffuseGlossyReflectance(bool withSharpGlossy = true) const;
     // The Lambertian layer's share of it: (1 - metallic) (1 - transmission) baseColor (1 - E_avg).
     Color matteReflectance() const;
 

@@ -87,6 +87,7 @@ SceneContents analyseScene(const Scene& scene) {
             const SurfaceHit hit = scene.surfaceAt(m, static_cast<uint32_t>(t), Vec3(1.0f / 3.0f));
             const Bsdf bsdf = scene.bsdf(hit);
             contents.diffuse = contents.diffuse || bsdf.hasNonDeltaLobe();
+            contents.sharpGlossy = contents.sharpGlossy || bsdf.hasSharpGlossyLobe();
             specular = specular || (bsdf.lobes() & kLobeSpecular) != 0;
         }
         if (specular)

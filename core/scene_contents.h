@@ -28,6 +28,9 @@ struct SceneContents {
     // from the eye seldom find (Jensen 1996, "Global Illumination using Photon Maps"). 0 without
     // specular meshes or area lights.
     float lightSolidAngleAtSpecular = 0.0f;
+    // A surface with a sharp glossy lobe (Bsdf::hasSharpGlossyLobe: D vertices that a radiosity
+    // solution can carry as S ones, passes/specular_transfer.h).
+    bool sharpGlossy = false;
 };
 
 // A sphere around a mesh: centred on its bounding box, through its farthest vertex.

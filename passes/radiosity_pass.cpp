@@ -211,7 +211,12 @@ void RadiosityPass::prepare(PassContext& context) {
     if (const auto* asked = std::get_if<RadiositySettings>(&settings_)) {
         const RadiositySettings settings = solvedSettings(*asked);
         const RadiositySettings* hierarchical = &settings;
-        mesh(hierarchical->meshing(context.scene));
+        MeshingSettings meshing = hierarchical->meshing(context.scene);
+        // The specular transfer carries the sharp glossy lobes' reflection as a mirror's for
+        // the passes that reuse the solution; a view, which can show only one radiance per
+        // point, shows it spread as the rough lobes'.
+        meshing.spreadSharpGlossy = !(transfers_ && !view_ && context.contents.sharpGlossy);
+        mesh(meshing);
         const std::vector<FluxDeposit> deposits =
             takesCaustics_
                 ? causticDeposits(context.product<CausticMap>(products::kCausticMap).get())
@@ -227,7 +232,7 @@ void RadiosityPass::prepare(PassContext& context) {
                       optional ? LinkRefiner::OnTimeUp::Abandon : LinkRefiner::OnTimeUp::Coarsen,
                       abandonAt);
         const bool abandoned = solver->abandoned();
-        if (transfers_ && context.contents.specular && !abandoned &&
+        if (transfers_ && (context.contents.specular || !meshing.spreadSharpGlossy) && !abandoned &&
             !deadlinePassed(context.deadline))
             transferThroughSpecular(context.scene, *mesh_, *solver,
                                     {transferPhotons(*mesh_), context.settings.seed,
@@ -332,7 +337,7 @@ PassStats RadiosityPass::parameters() const {
                 value += takesCaustics_ ? " (the photons of the caustic pass before, if it runs)"
                                         : " (no caustic map before)";
             if (key == "specular_transfer" && transfer_ == Transfer::Auto)
-                value += transfers_ ? " (if the scene has specular surfaces)"
+                value += transfers_ ? " (if the scene has specular or sharp glossy surfaces)"
                                     : " (off: the path pass traces that light itself)";
             if (key == "transfer_photons" && transferPhotons_ == kAutoTransferPhotons && mesh_)
                 value += " (" + std::to_string(transferPhotons(*mesh_)) + ")";

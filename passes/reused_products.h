@@ -18,6 +18,7 @@ class SolutionForTracers final : public ReusedSolution {
     Color indirect(const SurfaceHit& hit, bool front) const override {
         return solution_.indirectRadiance(hit.mesh, hit.triangle, hit.barycentric, front);
     }
+    bool spreadsSharpGlossy() const override { return solution_.spreadsSharpGlossy(); }
 
   private:
     const RadiositySolution& solution_;

@@ -28,6 +28,21 @@ std::vector<FluxDeposit> asDeposits(std::span<const Photon> photons) {
 void transferThroughSpecular(const Scene& scene, const RadiosityMesh& mesh, RadiositySolver& solver,
                              const SpecularTransferSettings& settings, bool quiet,
                              SolveProgress& solveProgress) {
+    const bool sharpGlossy = !mesh.spreadsSharpGlossy();
+    // The lights' own light through sharp glossy surfaces (L S* G S* D, G sharp; through delta
+    // lobes alone it is the caustic photons'): the solution does not change it, so it is shot
+    // once, after the rounds' sample indices, and given to every round.
+    std::vector<FluxDeposit> fromLights;
+    if (sharpGlossy) {
+        PhotonTracerSettings lights;
+        lights.photons = settings.photons;
+        lights.seed = settings.seed;
+        lights.firstIndex = static_cast<uint64_t>(kMaxSpecularTransfers) * settings.photons;
+        lights.throughSharpGlossy = lights.onlyThroughSharpGlossy = true;
+        Progress progress("radiosity: lights through sharp glossy surfaces", settings.photons,
+                          quiet);
+        fromLights = asDeposits(tracePhotons(scene, lights, &progress).photons);
+    }
     double previous = 0.0;
     for (int round = 0; round < kMaxSpecularTransfers; ++round) {
         const auto roundStart = std::chrono::steady_clock::now();
@@ -42,6 +57,7 @@ void transferThroughSpecular(const Scene& scene, const RadiosityMesh& mesh, Radi
         photons.photons = settings.photons;
         photons.seed = settings.seed;
         photons.firstIndex = static_cast<uint64_t>(round) * settings.photons;
+        photons.throughSharpGlossy = sharpGlossy;
         if (round == 0 && settings.deadline) {
             // Under a time limit, a pilot of the first photons first: a transfer whose first
             // round would carry less than the rounds' own tolerance is not worth its time.
@@ -50,8 +66,12 @@ void transferThroughSpecular(const Scene& scene, const RadiosityMesh& mesh, Radi
             const PhotonTraceResult piloted =
                 tracePhotonsFromSurfaces(scene, sample, emitter.power(), pilot, nullptr);
             if (piloted.specularMeshes == 0 ||
-                luminance(piloted.storedPower) <= kTransferConvergence * luminance(emitter.power()))
+                luminance(piloted.storedPower) <=
+                    kTransferConvergence * luminance(emitter.power())) {
+                if (!fromLights.empty())
+                    solver.transferThroughSpecular(fromLights, &solveProgress);
                 return;
+            }
         }
         PhotonTraceResult traced;
         {
@@ -61,7 +81,9 @@ void transferThroughSpecular(const Scene& scene, const RadiosityMesh& mesh, Radi
         }
         if (traced.specularMeshes == 0)
             return;
-        solver.transferThroughSpecular(asDeposits(traced.photons), &solveProgress);
+        std::vector<FluxDeposit> deposits = asDeposits(traced.photons);
+        deposits.insert(deposits.end(), fromLights.begin(), fromLights.end());
+        solver.transferThroughSpecular(deposits, &solveProgress);
         const double transferred = luminance(traced.storedPower);
         const double change = std::abs(transferred - previous);
         previous = transferred;

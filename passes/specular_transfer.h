@@ -7,8 +7,11 @@
 // (RadiositySolver::transferThroughSpecular), with which it is solved again: the fixed-point
 // iteration T = transfer(solve(E + T)), each round one specular transfer deeper, stopped when a
 // round changes the transferred flux by less than kTransferConvergence of the flux the solution
-// reflects (the truncation of a Neumann series, as the gather sweeps' own). Here rather than in
-// radiosity/ because it joins the radiosity and caustics libraries.
+// reflects (the truncation of a Neumann series, as the gather sweeps' own). A mesh that does not
+// spread the sharp glossy lobes (MeshingSettings::spreadSharpGlossy) has their reflection carried
+// here too, as a mirror's (D G D and, from the lights, L G D: a polished floor's image of the
+// lit room on the wall opposite; caustics/photon_tracer.h, throughSharpGlossy). Here rather than
+// in radiosity/ because it joins the radiosity and caustics libraries.
 #pragma once
 
 #include "caustics/photon_tracer.h"

@@ -77,8 +77,8 @@ bool emissionVaries(const Material& m) {
 }
 
 // An element's reflectances from one BSDF evaluation: column 0 rho
-// (Bsdf::diffuseGlossyReflectance()), column 1 its rough glossy lobes' part; a matrix, so that
-// setMaterial's mean sums them as it sums colours.
+// (Bsdf::diffuseGlossyReflectance(), RadiosityMesh::rho), column 1 its rough glossy lobes' part;
+// a matrix, so that setMaterial's mean sums them as it sums colours.
 using Reflectances = glm::mat2x3;
 
 }  // namespace
@@ -190,6 +190,7 @@ RadiosityMesh::RadiosityMesh(const Scene& scene, const MeshingSettings& settings
                                     std::to_string(settings.minElementArea));
     patchEdgeLength_ = settings.patchEdgeLength;
     minElementArea_ = settings.minElementArea;
+    spreadSharpGlossy_ = settings.spreadSharpGlossy;
 
     // One face per scene triangle (or per piece of a triangle cut along its contact lines),
     // sharing the scene mesh's vertices where the polygon mesh stays manifold. A face OpenMesh
@@ -442,7 +443,7 @@ void RadiosityMesh::setMaterial(Element& e) {
     Impl::MaterialValues& values = impl_->materials[scene_->meshes()[e.mesh].material];
     const auto rhoAt = [&](const Vec3& b) {
         const Bsdf bsdf = scene_->bsdf(scene_->surfaceAt(e.mesh, e.triangle, b));
-        const Color rho = bsdf.diffuseGlossyReflectance();
+        const Color rho = bsdf.diffuseGlossyReflectance(spreadSharpGlossy_);
         return Reflectances(rho, rho - bsdf.matteReflectance());
     };
     const auto LeAt = [&](const Vec3& b) {

@@ -53,6 +53,10 @@ struct MeshingSettings {
     // Cut them along the shadow boundaries of the scene's point-like sources too
     // (shadow_lines.h), with the same bounds.
     bool shadowLines = false;
+    // Reflect the sharp glossy lobes (Bsdf::hasSharpGlossyLobe) spread as Lambertian, as the
+    // rough ones; false for a solution whose specular transfer carries their reflection by
+    // photons (passes/specular_transfer.h), so that rho leaves them out.
+    bool spreadSharpGlossy = true;
 };
 
 // Sizes for the log (the solver's statistics).
@@ -199,14 +203,17 @@ class RadiosityMesh {
 
     // --- Material ----------------------------------------------------------------------------
 
-    // Reflectance: Bsdf::diffuseGlossyReflectance() of Scene::bsdf() at the centroid; for a
+    // Reflectance: Bsdf::diffuseGlossyReflectance() of Scene::bsdf() at the centroid (the sharp
+    // glossy lobes' part left out unless spreadsSharpGlossy()); for a
     // material whose reflectance varies over the surface (a base colour, metallic-
     // roughness, specular or specular colour texture), the mean over four points: the centroid
     // and the midpoints between it and each corner.
     const Color& rho(int element) const { return at(element).rho; }
-    // The rough glossy lobes' part of rho (Bsdf::diffuseGlossyReflectance() less
-    // matteReflectance()), averaged as rho: zero on a Lambertian surface.
+    // The rough glossy lobes' part of rho (rho less Bsdf::matteReflectance()), averaged as rho:
+    // zero on a Lambertian surface.
     const Color& rhoGlossy(int element) const { return at(element).rhoGlossy; }
+    // Whether rho holds the sharp glossy lobes (MeshingSettings::spreadSharpGlossy).
+    bool spreadsSharpGlossy() const { return spreadSharpGlossy_; }
     // Emitted radiance towards the front (Scene::emitted), averaged like rho when the emission is
     // textured; the back emits nothing unless twoSided().
     const Color& Le(int element) const { return at(element).Le; }
@@ -298,6 +305,7 @@ class RadiosityMesh {
     ElementPoint locateInLattice(const TrianglePatches& patches, float b1, float b2) const;
 
     const Scene* scene_;
+    bool spreadSharpGlossy_ = true;
     float patchEdgeLength_ = 0.0f;
     float minElementArea_ = 0.0f;  // 0: relative to the patch
     std::unique_ptr<Impl> impl_;

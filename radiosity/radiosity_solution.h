@@ -37,6 +37,9 @@ class RadiositySolution {
                                    bool front = true) const = 0;
     // Counters and timings, in the order they should be printed.
     virtual PassStats stats() const = 0;
+    // Whether the solution reflects the sharp glossy lobes spread as Lambertian (false: its
+    // specular transfer carried their reflection; MeshingSettings::spreadSharpGlossy).
+    virtual bool spreadsSharpGlossy() const { return true; }
 };
 
 // A tracer that follows the rough glossy lobes itself takes only the Lambertian layer's share of

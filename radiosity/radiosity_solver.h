@@ -215,6 +215,7 @@ class RadiositySolver : public RadiositySolution {
     // (pi sum_i A_i Y(L_i) over leaf sides, lm) of the direct part and of the indirect part; the
     // specular transfer's rounds, deposits, flux (lm) and seconds (its gathers included).
     PassStats stats() const override;
+    bool spreadsSharpGlossy() const override { return mesh_.spreadsSharpGlossy(); }
 
   private:
     void resizeArrays();

@@ -29,13 +29,21 @@ Color DistributionTracer::glossyIndirect(const SurfaceHit& hit, const Bsdf& bsdf
     const Color f = bsdf.fGlossy(wo, bs->wi);
     if (!(maxComponent(f) > 0.0f))
         return Color(0.0f);
-    ++counters.rays;
-    const std::optional<SurfaceHit> next = scene_.intersect(Scene::spawnRay(hit, bs->wi));
-    if (!next)
-        return Color(0.0f);
-    // Emission is left out: estimateDirectLight's BSDF sample counts it.
-    const Color Lnext = indirect_->reflected(*next, glm::dot(-bs->wi, next->ng) > 0.0f);
-    return f * Lnext * (std::abs(glm::dot(bs->wi, bsdf.shadingNormal())) / bs->pdf);
+    // Through mirrors and glass to the next diffuse surface, as from the eye: a polished floor
+    // shows what lies behind a glass balustrade. Emission is left out: what the sample meets
+    // first, estimateDirectLight's BSDF sample counts; behind a specular vertex (L S+ D E), the
+    // caustic pass.
+    const SpecularChainSettings chain{.maxSpecularDepth = settings_.maxSpecularDepth,
+                                      .countEmission = false};
+    const PathRadiance Lnext = traceSpecularChain(
+        scene_, Scene::spawnRay(hit, bs->wi), sampler, nullptr, counters, chain,
+        [this](const SurfaceHit& next, const Bsdf&, const Vec3& nextWo, Sampler&, PathCounters&) {
+            PathRadiance reflected;
+            reflected[PathComponent::Indirect] =
+                indirect_->reflected(next, glm::dot(nextWo, next.ng) > 0.0f);
+            return reflected;
+        });
+    return f * Lnext.total() * (std::abs(glm::dot(bs->wi, bsdf.shadingNormal())) / bs->pdf);
 }
 
 PathRadiance DistributionTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHit,
@@ -55,8 +63,8 @@ PathRadiance DistributionTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHi
             L[PathComponent::Direct] =
                 estimateDirectLight(scene_, hit, bsdf, wo, vertexSampler, vertexCounters);
             if (indirect_) {
-                L[PathComponent::Indirect] +=
-                    matteShare(bsdf) * indirect_->indirect(hit, glm::dot(wo, hit.ng) > 0.0f);
+                L[PathComponent::Indirect] += matteShare(bsdf, *indirect_) *
+                                              indirect_->indirect(hit, glm::dot(wo, hit.ng) > 0.0f);
                 if (bsdf.lobes() & kLobeGlossy) {
                     L[PathComponent::Indirect] +=
                         glossyIndirect(hit, bsdf, wo, vertexSampler, vertexCounters);

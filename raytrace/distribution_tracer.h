@@ -11,9 +11,10 @@
 // - the indirect light (L D D+), the direct part being the line above: for the Lambertian
 //   layer, the indirect-only radiosity solution there as the ambient term (its share of it: the
 //   solution reflects with the whole non-delta reflectance, Lambertian layer and rough glossy
-//   lobes spread as Lambertian, Bsdf::diffuseGlossyReflectance); for the rough glossy lobes,
-//   glossy reflection by sampling the lobe (Cook et al.): one BSDF sample to the next surface,
-//   whose reflected radiance the solution gives;
+//   lobes spread as Lambertian, Bsdf::diffuseGlossyReflectance, the sharp ones too unless its
+//   specular transfer carried them); for the rough glossy lobes, glossy reflection by sampling
+//   the lobe (Cook et al.): one BSDF sample through any mirrors and glass to the next diffuse
+//   surface, whose reflected radiance the solution gives;
 // and continues only through that vertex's specular lobes, if it has any. Emission is counted
 // where a ray from the eye or a specular chain meets it.
 //

@@ -23,6 +23,9 @@ class ReusedSolution {
     // Its indirect part, light paths L D D+ ending there (RadiositySolution::indirectRadiance):
     // the ambient term of distribution ray tracing.
     virtual Color indirect(const SurfaceHit& hit, bool front) const = 0;
+    // Whether the solution reflects the sharp glossy lobes (Bsdf::hasSharpGlossyLobe) spread as
+    // Lambertian, as the rough ones (RadiositySolution::spreadsSharpGlossy).
+    virtual bool spreadsSharpGlossy() const { return true; }
 };
 
 // Caustic light at a surface point, estimated from photons that passed specular surfaces (the
@@ -35,12 +38,13 @@ class ReusedCaustics {
                            ReflectingLobes lobes) const = 0;
 };
 
-// The Lambertian layer's share, per channel, of the light a solution reflects at a point of this
+// The Lambertian layer's share, per channel, of the light `solution` reflects at a point of this
 // BSDF: a solver reflects with the whole Bsdf::diffuseGlossyReflectance() (the rough glossy lobes
-// spread as Lambertian), of which the Lambertian layer's part is matteReflectance(). A tracer that
-// follows the glossy lobes itself takes only this share of reflected() or indirect().
-inline Color matteShare(const Bsdf& bsdf) {
-    const Color rho = bsdf.diffuseGlossyReflectance();
+// spread as Lambertian; the sharp ones too unless it carried them by photons), of which the
+// Lambertian layer's part is matteReflectance(). A tracer that follows the glossy lobes itself
+// takes only this share of reflected() or indirect().
+inline Color matteShare(const Bsdf& bsdf, const ReusedSolution& solution) {
+    const Color rho = bsdf.diffuseGlossyReflectance(solution.spreadsSharpGlossy());
     const Color matte = bsdf.matteReflectance();
     Color share(0.0f);
     for (int c = 0; c < 3; ++c)

@@ -616,6 +616,26 @@ TEST(BsdfLobes, OnlyLobesWithWeightArePresent) {
     EXPECT_FALSE(makeBsdf(glass(0.0f, false, c)).hasNonDeltaLobe());
 }
 
+TEST(BsdfLobes, SharpGlossyLobesAreTheNarrowRoughOnes) {
+    // alpha = roughness^2: 0.22 gives 0.0484, within kSharpGlossyAlpha (0.05); 0.23 gives
+    // 0.0529, outside; roughness 0 is a delta, not a glossy lobe.
+    const Color c(0.5f);
+    EXPECT_TRUE(makeBsdf(dielectric(0.1f, c)).hasSharpGlossyLobe());
+    EXPECT_TRUE(makeBsdf(metal(0.22f, c)).hasSharpGlossyLobe());
+    EXPECT_TRUE(makeBsdf(glass(0.1f, false, c)).hasSharpGlossyLobe());
+    EXPECT_FALSE(makeBsdf(metal(0.23f, c)).hasSharpGlossyLobe());
+    EXPECT_FALSE(makeBsdf(dielectric(0.0f, c)).hasSharpGlossyLobe());
+    EXPECT_FALSE(makeBsdf(lambertian(c)).hasSharpGlossyLobe());
+    // Left out of the reflectance, a sharp coat leaves the Lambertian layer, a sharp metal
+    // nothing; a rough coat stays.
+    const Bsdf polished = makeBsdf(dielectric(0.1f, c));
+    EXPECT_EQ(polished.diffuseGlossyReflectance(false), polished.matteReflectance());
+    EXPECT_GT(polished.diffuseGlossyReflectance().g, polished.matteReflectance().g);
+    EXPECT_EQ(makeBsdf(metal(0.1f, c)).diffuseGlossyReflectance(false), Color(0.0f));
+    const Bsdf rough = makeBsdf(dielectric(0.5f, c));
+    EXPECT_EQ(rough.diffuseGlossyReflectance(false), rough.diffuseGlossyReflectance());
+}
+
 TEST(BsdfThinWall, StraightTransmittanceIsWhatReflectionLeaves) {
     const Color base(0.9f, 0.6f, 0.3f);
     const Bsdf smooth = makeBsdf(glass(0.0f, true, base));

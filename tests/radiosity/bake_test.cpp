@@ -673,7 +673,8 @@ TEST(BakeCommand, CornellBoxGivesALoadableModel) {
 TEST(BakeCommand, CarriesTheLightThroughTheMirrorUnlessToldNot) {
     TempDir dir("bake-cli-transfer");
     const auto bake = [&](const std::string& options) {
-        return bakeRoom(dir, addMirrorCeilingRoom, options);
+        return bakeRoom(
+            dir, [](GltfBuilder& scene) { addMirrorCeilingRoom(scene); }, options);
     };
     const std::string with = bake("");
     const std::string without = bake("--no-specular-transfer");

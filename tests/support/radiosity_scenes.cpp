@@ -28,11 +28,11 @@ void addMirrorRoom(GltfBuilder& scene) {
     scene.setPerspectiveCamera({0.0f, -0.2f, 0.99f}, {0.0f, 0.0f, 0.0f, 1.0f}, 1.4f);
 }
 
-void addMirrorCeilingRoom(GltfBuilder& scene) {
+void addMirrorCeilingRoom(GltfBuilder& scene, float roughness) {
     const int walls = scene.addMaterial({.baseColor = Color(0.75f, 0.7f, 0.6f)});
     addClosedBox(scene, walls, walls);
     const int mirror = scene.addMaterial(
-        {.baseColor = Color(0.95f), .lambertian = false, .metallic = 1.0f, .roughness = 0.0f});
+        {.baseColor = Color(0.95f), .lambertian = false, .metallic = 1.0f, .roughness = roughness});
     constexpr float m = 1.0f, y = 0.99f;
     scene.addQuad({-m, y, -m}, {m, y, -m}, {m, y, m}, {-m, y, m}, mirror);  // faces down
     const int lamp = scene.addMaterial(

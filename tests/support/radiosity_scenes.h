@@ -26,8 +26,9 @@ void addClosedBox(GltfBuilder& scene, int walls, int floor, float h = 1.0f);
 // A closed room whose ceiling is one mirror (just under addClosedBox's ceiling, h = 1, albedo
 // 0.75, 0.7, 0.6), lit by a 0.4 m square lamp 0.1 m under it that faces down (20 cd/m²): no
 // light reaches the mirror from the lamp, but the lit floor and walls see themselves in it
-// (L D S D). The camera looks along -z from near the far wall.
-void addMirrorCeilingRoom(GltfBuilder& scene);
+// (L D S D). The camera looks along -z from near the far wall. With a `roughness`, the mirror
+// (a metal of base colour 0.95) is that rough.
+void addMirrorCeilingRoom(GltfBuilder& scene, float roughness = 0.0f);
 
 // A closed room lit mostly through a mirror: addClosedBox's six quads (h = 1, albedo 0.75, 0.7,
 // 0.6), a mirror of 0.6 x 0.6 m just under the ceiling facing down, and a 0.3 x 0.3 m light of
