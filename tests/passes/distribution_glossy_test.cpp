@@ -124,6 +124,8 @@ TEST(DistributionGlossy, ARoughFloorReflectsWhatTheMirrorShows) {
     }
     ASSERT_GT(pixels, 500);
     std::printf("rough floor: pixels %d  distribution / reference %.4f\n", pixels, test / ref);
+    // Measured 0.991 (0.488 with the sample read at the mirror). The bound is the 3 % for
+    // the preview's region means; the path tracer's noise over 1000 pixels is far below it.
     EXPECT_NEAR(test / ref, 1.0, 0.03);
 }
 
