@@ -300,7 +300,9 @@ class Tracer {
                 return;
 
             // Continue through S vertices only: a delta lobe's sample, or a sharp glossy lobe's
-            // share of any sample (fGlossy over the mixture's pdf, whichever strategy drew wi).
+            // share of any sample (fGlossy over the mixture's pdf, whichever strategy drew wi:
+            // unbiased for the glossy lobes' part of the integral, as any integrand over a
+            // mixture's density is; Veach 1997, chapter 9, the one-sample model).
             const float uLobe = sampler.get1D();
             const Vec2 u = sampler.get2D();
             const std::optional<BsdfSample> bs =

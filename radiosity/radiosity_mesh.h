@@ -204,10 +204,10 @@ class RadiosityMesh {
     // --- Material ----------------------------------------------------------------------------
 
     // Reflectance: Bsdf::diffuseGlossyReflectance() of Scene::bsdf() at the centroid (the sharp
-    // glossy lobes' part left out unless spreadsSharpGlossy()); for a
-    // material whose reflectance varies over the surface (a base colour, metallic-
-    // roughness, specular or specular colour texture), the mean over four points: the centroid
-    // and the midpoints between it and each corner.
+    // glossy lobes' part left out unless spreadsSharpGlossy()); for a material whose reflectance
+    // varies over the surface (a base colour, metallic-roughness, specular or specular colour
+    // texture), the mean over four points: the centroid and the midpoints between it and each
+    // corner.
     const Color& rho(int element) const { return at(element).rho; }
     // The rough glossy lobes' part of rho (rho less Bsdf::matteReflectance()), averaged as rho:
     // zero on a Lambertian surface.
