@@ -448,6 +448,18 @@ Color Bsdf::matteReflectance() const {
            glm::max(Color(1.0f) - albedoAvg_, 0.0f);
 }
 
+Color Bsdf::matteAlbedo(const Vec3& wo) const {
+    if (!hasDiffuse_)
+        return Color(0.0f);
+    const std::optional<Query> q = query(wo);
+    if (!q)
+        return Color(0.0f);
+    // The matte term's coupling (evalF) integrated over wi: (1 - E(wi)) averages to 1 - E_avg,
+    // which its normalisation cancels, leaving (1 - E(wo)).
+    return (1.0f - params_.metallic) * (1.0f - params_.transmission) * params_.baseColor *
+           glm::max(Color(1.0f) - q->albedo, 0.0f);
+}
+
 Color Bsdf::diffuseGlossyReflectance(bool withSharpGlossy) const {
     const float m = params_.metallic;
     Color rho = matteReflectance();

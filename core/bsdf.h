@@ -106,6 +106,11 @@ class Bsdf {
     Color diffuseGlossyReflectance(bool withSharpGlossy = true) const;
     // The Lambertian layer's share of it: (1 - metallic) (1 - transmission) baseColor (1 - E_avg).
     Color matteReflectance() const;
+    // The Lambertian layer's directional albedo seen from wo: (1 - metallic) (1 - transmission)
+    // baseColor (1 - E(wo)), what it reflects towards wo of uniform incident light. Its cosine-
+    // weighted average over wo is matteReflectance(); at grazing wo, where the specular layer
+    // reflects more, it is lower. Zero where nothing scatters towards wo.
+    Color matteAlbedo(const Vec3& wo) const;
 
   private:
     // One wo in the local frame, with the quantities every query about it needs.

@@ -63,7 +63,7 @@ PathRadiance DistributionTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHi
             L[PathComponent::Direct] =
                 estimateDirectLight(scene_, hit, bsdf, wo, vertexSampler, vertexCounters);
             if (indirect_) {
-                L[PathComponent::Indirect] += matteShare(bsdf, *indirect_) *
+                L[PathComponent::Indirect] += matteShare(bsdf, wo, *indirect_) *
                                               indirect_->indirect(hit, glm::dot(wo, hit.ng) > 0.0f);
                 if (bsdf.lobes() & kLobeGlossy) {
                     L[PathComponent::Indirect] +=

@@ -403,7 +403,7 @@ PathRadiance PathTracer::Li(Ray ray, Sampler& sampler, FirstHit* firstHit,
         // Light reflected here reaches the eye over this vertex and the ones before it.
         const PathComponent reflectedHere = pathComponent(depth + 1, firstVertexSpecular);
         if (unheld && reuseHere && radiosity_) {
-            const Color S = matteShare(bsdf, *radiosity_) *
+            const Color S = matteShare(bsdf, wo, *radiosity_) *
                             radiosity_->reflected(*hit, glm::dot(wo, hit->ng) > 0.0f);
             add(reflectedHere, w.unheld, -corrected, S);
         }

@@ -39,13 +39,16 @@ class ReusedCaustics {
 };
 
 // The Lambertian layer's share, per channel, of the light `solution` reflects at a point of this
-// BSDF: a solver reflects with the whole Bsdf::diffuseGlossyReflectance() (the rough glossy lobes
-// spread as Lambertian; the sharp ones too unless it carried them by photons), of which the
-// Lambertian layer's part is matteReflectance(). A tracer that follows the glossy lobes itself
-// takes only this share of reflected() or indirect().
-inline Color matteShare(const Bsdf& bsdf, const ReusedSolution& solution) {
+// BSDF towards wo: a solver reflects with the whole Bsdf::diffuseGlossyReflectance() (the rough
+// glossy lobes spread as Lambertian; the sharp ones too unless it carried them by photons), the
+// same in every direction, of which the Lambertian layer reflects towards wo its directional
+// albedo, Bsdf::matteAlbedo(wo) (exact for uniform incident light). At grazing wo the specular
+// layer above takes more: the modern hall's polished floor (roughness 0.1) seen at 84 degrees
+// from its normal reflects 0.44 of the hemispherical average, matteReflectance(). A tracer that
+// follows the glossy lobes itself takes only this share of reflected() or indirect().
+inline Color matteShare(const Bsdf& bsdf, const Vec3& wo, const ReusedSolution& solution) {
     const Color rho = bsdf.diffuseGlossyReflectance(solution.spreadsSharpGlossy());
-    const Color matte = bsdf.matteReflectance();
+    const Color matte = bsdf.matteAlbedo(wo);
     Color share(0.0f);
     for (int c = 0; c < 3; ++c)
         share[c] = rho[c] > 0.0f ? matte[c] / rho[c] : 0.0f;

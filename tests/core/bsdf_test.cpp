@@ -329,26 +329,34 @@ TEST(BsdfFurnace, ImportanceSampledAlbedoMatchesUniformSampling) {
     }
 }
 
-// The hemispherical-hemispherical albedo of a lobe f(wo, wi), by a midpoint rule over
-// cos(theta_o) (isotropy) and stratified directions wi; accurate to about 1e-3 for a lobe as
-// smooth as the matte one.
+// The directional albedo of a lobe f(wo, wi) at wo, by a midpoint rule over stratified
+// directions wi (cos(theta_i) and phi); accurate to about 1e-3 for a lobe as smooth as the matte
+// one.
+glm::dvec3 directionalAlbedo(const std::function<Color(const Vec3&, const Vec3&)>& lobe,
+                             const Vec3& wo) {
+    constexpr int kTheta = 32, kPhi = 64;
+    glm::dvec3 albedo(0.0);
+    for (int i = 0; i < kTheta; ++i) {
+        for (int j = 0; j < kPhi; ++j) {
+            const float z = (i + 0.5f) / kTheta;
+            const float phi = 2.0f * kPi * (j + 0.5f) / kPhi;
+            const Vec3 wi(safeSqrt(1.0f - z * z) * std::cos(phi),
+                          safeSqrt(1.0f - z * z) * std::sin(phi), z);
+            albedo += glm::dvec3(lobe(wo, wi)) * double(z);
+        }
+    }
+    return albedo * (2.0 * kPi / (kTheta * kPhi));
+}
+
+// The hemispherical-hemispherical albedo of a lobe: its directional albedo averaged by a
+// midpoint rule over cos(theta_o) (isotropy), cosine-weighted.
 glm::dvec3 averageAlbedo(const std::function<Color(const Vec3&, const Vec3&)>& lobe) {
-    constexpr int kMu = 32, kTheta = 32, kPhi = 64;
+    constexpr int kMu = 32;
     glm::dvec3 rho(0.0);
     for (int a = 0; a < kMu; ++a) {
         const float muO = (a + 0.5f) / kMu;
         const Vec3 wo(safeSqrt(1.0f - muO * muO), 0.0f, muO);
-        glm::dvec3 albedo(0.0);
-        for (int i = 0; i < kTheta; ++i) {
-            for (int j = 0; j < kPhi; ++j) {
-                const float z = (i + 0.5f) / kTheta;
-                const float phi = 2.0f * kPi * (j + 0.5f) / kPhi;
-                const Vec3 wi(safeSqrt(1.0f - z * z) * std::cos(phi),
-                              safeSqrt(1.0f - z * z) * std::sin(phi), z);
-                albedo += glm::dvec3(lobe(wo, wi)) * double(z);
-            }
-        }
-        rho += albedo * (2.0 * kPi / (kTheta * kPhi)) * (2.0 * muO / kMu);
+        rho += directionalAlbedo(lobe, wo) * (2.0 * muO / kMu);
     }
     return rho;
 }
@@ -391,6 +399,29 @@ TEST(BsdfFurnace, FLessFGlossyIsTheMatteLobe) {
         const Vec3 wi = sampleCosineHemisphere({uniform(rng), uniform(rng)});
         ASSERT_EQ(gold.fGlossy(wo, wi), gold.f(wo, wi));
     }
+}
+
+TEST(BsdfFurnace, MatteAlbedoIsTheMatteLobesDirectionalAlbedo) {
+    // matteAlbedo(wo) is what f - fGlossy (the matte lobe alone) reflects towards wo of uniform
+    // light, at every angle; seen at grazing angles a polished coat takes much of it, which the
+    // hemispherical average matteReflectance() does not say.
+    ShadingParams p = dielectric(0.1f, Color(0.9f, 0.6f, 0.3f));
+    p.specularColor = Color(1.0f, 3.0f, 8.0f);
+    const Bsdf polished = makeBsdf(p);
+    const auto matte = [&](const Vec3& wo, const Vec3& wi) {
+        return polished.f(wo, wi) - polished.fGlossy(wo, wi);
+    };
+    for (const float mu : {1.0f, 0.5f, 0.1f, 0.03f}) {
+        const Vec3 wo(safeSqrt(1.0f - mu * mu), 0.0f, mu);
+        const glm::dvec3 albedo = directionalAlbedo(matte, wo);
+        const Color expected = polished.matteAlbedo(wo);
+        for (int i = 0; i < 3; ++i)
+            EXPECT_NEAR(albedo[i], expected[i], 2e-3) << "mu " << mu << ", channel " << i;
+    }
+    const Vec3 grazing(safeSqrt(1.0f - 0.03f * 0.03f), 0.0f, 0.03f);
+    EXPECT_LT(polished.matteAlbedo(grazing).g, 0.8f * polished.matteReflectance().g);
+    const Bsdf gold = makeBsdf(metal(0.4f, Color(1.0f, 0.766f, 0.336f)));
+    EXPECT_EQ(gold.matteAlbedo(Vec3(0.0f, 0.0f, 1.0f)), Color(0.0f));
 }
 
 TEST(BsdfFurnace, RoughReflectanceIsTheWholeLobesAverageAlbedo) {
