@@ -201,6 +201,10 @@ class Pass {
     // true (finished); one whose work cannot be cut short, or whose fixed amount the passes after
     // it rely on, returns false and goes on.
     virtual bool stopEarly(PassContext&) { return false; }
+    // How long publishing what the steps made so far would take (the hybrid's reconstruction of
+    // its correction), which the pipeline leaves for it before the time limit; zero for a pass
+    // that publishes at once.
+    virtual std::chrono::steady_clock::duration publishingTime() const { return {}; }
     virtual PassStats stats() const = 0;
 };
 

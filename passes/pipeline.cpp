@@ -26,7 +26,8 @@ bool Pipeline::run(PassContext& context, const std::function<bool()>& abandon) {
                 break;
             if (abandon && abandon())
                 return false;
-            if (nextStepWouldOverrun(Clock::now() - stepStart, context.deadline) &&
+            if (nextStepWouldOverrun(Clock::now() - stepStart + pass.publishingTime(),
+                                     context.deadline) &&
                 pass.stopEarly(context)) {
                 break;
             }

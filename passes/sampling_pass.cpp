@@ -74,8 +74,21 @@ bool SamplingPass::stopEarly(PassContext& context) {
     return true;
 }
 
+std::chrono::steady_clock::duration SamplingPass::publishingTime() const {
+    return std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+        std::chrono::duration<double>(renderer_->reconstructionSeconds()));
+}
+
 void SamplingPass::publish(PassContext& context) {
     progress_->finish();
+    // What time is left bounds the correction's reconstruction: a narrower filter, not a late
+    // image (the pipeline stopped the samples early enough for the full one, unless the first
+    // step alone took the time).
+    if (context.deadline) {
+        renderer_->limitReconstruction(
+            std::chrono::duration<double>(*context.deadline - std::chrono::steady_clock::now())
+                .count());
+    }
     publishRenderedImage(context, *renderer_, type());
 }
 

@@ -24,6 +24,8 @@ class SamplingPass : public Pass {
     bool run(PassContext& context) override;
     // Publishes the image of the samples taken so far, if the pass usesTimeLimit().
     bool stopEarly(PassContext& context) override;
+    // The renderer's reconstruction of its correction (ImageRenderer::reconstructionSeconds).
+    std::chrono::steady_clock::duration publishingTime() const override;
     // parameters(), then samplingFigures().
     PassStats stats() const override;
 

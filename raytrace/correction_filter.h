@@ -70,4 +70,14 @@ std::vector<float> chooseFilterWidths(const NoisyImage& image, const FilterGuide
 // the default filter after the first sample.
 constexpr float kWidestChosenSigma = 8.0f;
 
+// What reconstructing a width x height correction at filter width sigma costs, for a renderer
+// under a time limit to leave time for it: the pixel pairs it weighs, chooseFilterWidths' two
+// sweeps over its widest candidate's window and then `layers` filterCorrection sweeps, counted
+// over that widest window too (an upper bound: most pixels choose a narrower width), each
+// window clipped at the image's borders. Zero below the filter's smallest width.
+double reconstructionVisits(int width, int height, float sigma, int layers);
+// Seconds per pixel pair of reconstructionVisits on this machine: a reconstruction of a small
+// image timed once, on the first call, and kept.
+double secondsPerReconstructionVisit();
+
 }  // namespace penumbra

@@ -143,7 +143,28 @@ std::vector<AovSpec> ImageRenderer::filmLayers() {
 }
 
 float ImageRenderer::correctionSigma() const {
-    return correctionSigma_ > 0.0f ? correctionFilterSigma(correctionSigma_, samplesDone_) : 0.0f;
+    if (correctionSigma_ <= 0.0f)
+        return 0.0f;
+    return std::min(correctionFilterSigma(correctionSigma_, samplesDone_), widestCorrectionSigma_);
+}
+
+double ImageRenderer::reconstructionSeconds() const {
+    if (correctionLayer_ < 0)
+        return 0.0;
+    const int layers = 1 + static_cast<int>(std::count_if(componentCorrectionLayers_.begin(),
+                                                          componentCorrectionLayers_.end(),
+                                                          [](int layer) { return layer >= 0; }));
+    return reconstructionVisits(film_.width(), film_.height(), correctionSigma(), layers) *
+           secondsPerReconstructionVisit();
+}
+
+void ImageRenderer::limitReconstruction(double seconds) {
+    seconds = std::max(seconds, 0.0);
+    // Each narrowing by a fifth cuts the window's area by about a third.
+    while (correctionSigma() > 0.0f && reconstructionSeconds() > seconds) {
+        widestCorrectionSigma_ = 0.8f * correctionSigma();
+        reconstruction_.reset();
+    }
 }
 
 const ImageRenderer::CorrectionReconstruction& ImageRenderer::correctionReconstruction() const {

@@ -13,6 +13,7 @@
 #include <atomic>
 #include <chrono>
 #include <functional>
+#include <limits>
 #include <memory>
 
 namespace penumbra {
@@ -69,6 +70,14 @@ class ImageRenderer {
     Image resolveAov(size_t aov) const;
     // The width (pixels) of the correction's reconstruction filter now; 0 without one.
     float correctionSigma() const;
+    // Seconds that reconstructing the correction would take now, for the resolve() and every
+    // component layer's resolveAov() (an upper bound from reconstructionVisits); 0 without one.
+    double reconstructionSeconds() const;
+    // Narrows the correction's filter, if it must, so that its reconstruction takes at most
+    // `seconds` by that bound (none at all below the filter's smallest width: the per-pixel
+    // means, unbiased and noisier): under a time limit, a narrower filter rather than a late
+    // image. Holds for every later resolve.
+    void limitReconstruction(double seconds);
     // AOV names in film order.
     const std::vector<std::string>& aovNames() const { return aovNames_; }
     // The light groups' names, and the radiance of group `group` (an index into them).
@@ -107,6 +116,8 @@ class ImageRenderer {
     std::vector<std::string> lightGroups_;
     int firstLightGroupLayer_ = -1;  // the film layer of the first light group, the others after it
     float correctionSigma_;
+    // The widest filter limitReconstruction() allows (pixels).
+    float widestCorrectionSigma_ = std::numeric_limits<float>::infinity();
     // Film layers past the user's AOVs, with a correction kept apart: the correction's sum over
     // the components and its square (for the variance of its mean), its share of each component
     // AOV (per AOV, or -1), and the filter's guide (the first diffuse vertex's features:

@@ -2,10 +2,15 @@
 // constant, averages noise down as a Gaussian of its width does (the effective number of pixels of
 // a normalised 2D Gaussian of standard deviation sigma is 4 pi sigma^2), never mixes two surfaces
 // whose normals differ, and its width follows sigma_1 N^(-1/6). Per pixel, the width SURE chooses
-// beats the fixed width against the true image the test made.
+// beats the fixed width against the true image the test made. Under a time limit, the
+// renderer's estimate of the reconstruction's cost counts the pixel pairs it weighs, and a
+// limit narrows the filter just enough to fit.
 #include "raytrace/correction_filter.h"
 
+#include "core/camera.h"
 #include "core/math.h"
+#include "core/sampler.h"
+#include "raytrace/image_renderer.h"
 
 #include <gtest/gtest.h>
 
@@ -14,6 +19,7 @@
 #include <functional>
 #include <numbers>
 #include <random>
+#include <tuple>
 
 namespace penumbra::test {
 namespace {
@@ -199,6 +205,67 @@ TEST(CorrectionFilter, WidthShrinksAsTheSixthRootOfTheSamples) {
     EXPECT_NEAR(correctionFilterSigma(8.0f, 64.0), 4.0f, 1e-5f);
     EXPECT_NEAR(correctionFilterSigma(8.0f, 4096.0), 2.0f, 1e-5f);
     EXPECT_FLOAT_EQ(correctionFilterSigma(8.0f, 0.0), 8.0f);  // before the first sample
+}
+
+// reconstructionVisits against the pairs counted window by window: the widest candidate,
+// max(sigma, min(2 sigma, kWidestChosenSigma)), reaches ceil(2 x its width) pixels each way,
+// clipped at the borders; two sweeps choose the widths, one per layer filters.
+TEST(CorrectionFilter, CountsThePixelPairsItsSweepsWeigh) {
+    for (const auto& [width, height, sigma] :
+         {std::tuple{40, 24, 3.0f}, std::tuple{7, 50, 8.0f}, std::tuple{64, 64, 0.7f}}) {
+        const float widest = std::max(sigma, std::min(2.0f * sigma, kWidestChosenSigma));
+        const int reach = static_cast<int>(std::ceil(2.0f * widest));
+        double pairs = 0.0;
+        for (int y = 0; y < height; ++y) {
+            for (int x = 0; x < width; ++x) {
+                for (int qy = y - reach; qy <= y + reach; ++qy)
+                    for (int qx = x - reach; qx <= x + reach; ++qx)
+                        pairs += qx >= 0 && qx < width && qy >= 0 && qy < height;
+            }
+        }
+        EXPECT_DOUBLE_EQ(reconstructionVisits(width, height, sigma, 3), 5.0 * pairs)
+            << width << " x " << height << ", sigma " << sigma;
+    }
+    EXPECT_EQ(reconstructionVisits(64, 64, 0.2f, 1), 0.0);  // no filter below a quarter pixel
+    const double seconds = secondsPerReconstructionVisit();
+    EXPECT_GT(seconds, 0.0);
+    EXPECT_LT(seconds, 1e-5);
+}
+
+// A renderer with a correction kept apart (sigma 8 at one sample) estimates its reconstruction
+// by the pairs counted above; a limit narrows the filter by fifths until the estimate fits (one
+// fifth less would not), and a limit of nothing leaves the per-pixel means as they are.
+TEST(CorrectionFilter, ATimeLimitNarrowsTheRenderersFilterJustEnough) {
+    RenderSettings settings;
+    settings.width = 48;
+    settings.height = 32;
+    const Camera camera(CameraDesc{}, settings.width, settings.height);
+    ImageRenderer renderer(
+        camera, settings,
+        [](const Ray&, Sampler& sampler, FirstHit*, PathCounters&) {
+            const Color correction(sampler.get1D());
+            PathRadiance L;
+            L[PathComponent::Indirect] = correction;
+            L.corrections[static_cast<size_t>(PathComponent::Indirect)] = correction;
+            return L;
+        },
+        8.0f);
+    renderer.renderSamplePass();
+    const double full = renderer.reconstructionSeconds();
+    EXPECT_DOUBLE_EQ(full, reconstructionVisits(48, 32, 8.0f, 1) * secondsPerReconstructionVisit());
+
+    renderer.limitReconstruction(full / 4.0);
+    const float narrowed = renderer.correctionSigma();
+    EXPECT_LT(narrowed, 8.0f);
+    EXPECT_LE(renderer.reconstructionSeconds(), full / 4.0);
+    EXPECT_GT(reconstructionVisits(48, 32, narrowed / 0.8f, 1) * secondsPerReconstructionVisit(),
+              full / 4.0);
+
+    renderer.limitReconstruction(0.0);
+    EXPECT_EQ(renderer.reconstructionSeconds(), 0.0);
+    const Image raw = renderer.film().resolve();
+    const Image shown = renderer.resolve();
+    EXPECT_TRUE(std::equal(raw.pixels().begin(), raw.pixels().end(), shown.pixels().begin()));
 }
 
 }  // namespace
