@@ -440,12 +440,16 @@ Color Bsdf::straightTransmittance(const Vec3& wo) const {
     return (1.0f - params_.metallic) * params_.transmission * params_.baseColor * left;
 }
 
+Color Bsdf::matteUnder(const Color& specularAlbedo) const {
+    return (1.0f - params_.metallic) * (1.0f - params_.transmission) * params_.baseColor *
+           glm::max(Color(1.0f) - specularAlbedo, 0.0f);
+}
+
 Color Bsdf::matteReflectance() const {
     if (!hasDiffuse_)
         return Color(0.0f);
     // Average over cosine-weighted wo of the matte albedo baseColor (1 - E(wo)): 1 - E_avg.
-    return (1.0f - params_.metallic) * (1.0f - params_.transmission) * params_.baseColor *
-           glm::max(Color(1.0f) - albedoAvg_, 0.0f);
+    return matteUnder(albedoAvg_);
 }
 
 Color Bsdf::matteAlbedo(const Vec3& wo) const {
@@ -454,10 +458,9 @@ Color Bsdf::matteAlbedo(const Vec3& wo) const {
     const std::optional<Query> q = query(wo);
     if (!q)
         return Color(0.0f);
-    // The matte term's coupling (evalF) integrated over wi: (1 - E(wi)) averages to 1 - E_avg,
-    // which its normalisation cancels, leaving (1 - E(wo)).
-    return (1.0f - params_.metallic) * (1.0f - params_.transmission) * params_.baseColor *
-           glm::max(Color(1.0f) - q->albedo, 0.0f);
+    // The matte term's coupling (Kelemen and Szirmay-Kalos 2001; evalF) integrated over wi:
+    // (1 - E(wi)) averages to 1 - E_avg, which its normalisation cancels, leaving (1 - E(wo)).
+    return matteUnder(q->albedo);
 }
 
 Color Bsdf::diffuseGlossyReflectance(bool withSharpGlossy) const {

@@ -127,6 +127,9 @@ class Bsdf {
     Vec3 toLocal(const Vec3& w, bool front) const;
     Vec3 toWorld(const Vec3& w, bool front) const;
     Color specularAlbedo(float cosTheta) const;
+    // The Lambertian layer's albedo under a specular layer of albedo E: (1 - metallic) (1 -
+    // transmission) baseColor (1 - E).
+    Color matteUnder(const Color& specularAlbedo) const;
     Color mirrorFresnel(const Query& q, float cosTheta) const;
     float glassReflectionChoice(const Query& q, float cosTheta) const;
     Color evalF(const Query& q, const Vec3& wi, TransportMode mode, bool withMatte = true) const;

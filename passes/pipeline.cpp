@@ -26,7 +26,10 @@ bool Pipeline::run(PassContext& context, const std::function<bool()>& abandon) {
                 break;
             if (abandon && abandon())
                 return false;
-            if (nextStepWouldOverrun(Clock::now() - stepStart + pass.publishingTime(),
+            // Without a time limit the publishing time is not asked (the hybrid would time its
+            // reconstruction's cost for nothing).
+            if (context.deadline &&
+                nextStepWouldOverrun(Clock::now() - stepStart + pass.publishingTime(),
                                      context.deadline) &&
                 pass.stopEarly(context)) {
                 break;
