@@ -35,11 +35,14 @@ struct TrianglePieces {
 };
 
 // Cuts the triangle with world-space corners `corners` along `segments` (clipped to it by the
-// caller). Features finer than `resolution` (metres; at least a millionth of the longest edge)
-// are joined: end points closer than it are merged, and an end point closer than it to another
-// segment or to an edge is put on it. The refinement stops after a bounded number of steps, so
-// that a segment meeting an edge at a tiny angle cannot make it run away; a piece may then keep
-// a small angle.
+// caller). Features finer than `resolution` (metres; at least a millionth of the triangle's
+// least height, at most a quarter of it) are joined: end points closer than it are merged, and
+// an end point closer than it to another segment or to an edge is put on it. Whatever the
+// segments (crossing, overlapping, a rounding error apart), the pieces cover the triangle once
+// and none has a segment through its inside: the lines are snap rounded to a grid a millionth of
+// the least height fine before they are triangulated. The refinement stops after a bounded
+// number of steps, so that a segment meeting an edge at a tiny angle cannot make it run away; a
+// piece may then keep a small angle.
 TrianglePieces cutTriangle(const std::array<Vec3, 3>& corners,
                            std::span<const TriangleSegment> segments, float resolution);
 
