@@ -16,7 +16,10 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <optional>
 #include <sstream>
+#include <string_view>
+#include <utility>
 
 namespace penumbra {
 namespace {
@@ -86,6 +89,48 @@ tinygltf::Model parse(const std::string& path, LoadReport& report) {
             report.warnings.push_back(path + ": " + shorten(line));
     }
     return model;
+}
+
+// A glTF version, "<major>.<minor>" (the schema's pattern for asset.version, ^[0-9]+\.[0-9]+$),
+// as (major, minor); nothing if the text is not one.
+std::optional<std::pair<int, int>> gltfVersion(const std::string& text) {
+    const size_t dot = text.find('.');
+    const auto digits = [](std::string_view s) {
+        return !s.empty() && s.size() <= 9 &&
+               std::all_of(s.begin(), s.end(), [](char c) { return c >= '0' && c <= '9'; });
+    };
+    if (dot == std::string::npos || !digits(std::string_view(text).substr(0, dot)) ||
+        !digits(std::string_view(text).substr(dot + 1)))
+        return std::nullopt;
+    return std::pair(std::stoi(text.substr(0, dot)), std::stoi(text.substr(dot + 1)));
+}
+
+// penumbra reads glTF 2.0. The asset's version says which glTF it targets and its minVersion,
+// if any, the least a loader must support to load it, at most the version itself (the
+// specification's "Asset"). A 2.x file without a minVersion above 2.0 loads as 2.0, as the
+// Khronos glTF-Asset-Generator's "Compatibility" models expect of a 2.0 client; anything else
+// is refused rather than read as 2.0.
+void checkVersion(const Context& ctx) {
+    const std::string& text = ctx.model.asset.version;
+    const std::optional<std::pair<int, int>> version = gltfVersion(text);
+    if (!version)
+        ctx.fail("/asset/version", "\"" + text + "\" is not a glTF version (<major>.<minor>)");
+    if (version->first != 2)
+        ctx.fail("/asset/version", "the file is glTF " + text +
+                                       "; penumbra reads glTF 2.0 (convert it first, e.g. with "
+                                       "gltf-pipeline)");
+    const std::string& least = ctx.model.asset.minVersion;
+    if (least.empty())
+        return;
+    const std::optional<std::pair<int, int>> minimum = gltfVersion(least);
+    if (!minimum)
+        ctx.fail("/asset/minVersion", "\"" + least + "\" is not a glTF version (<major>.<minor>)");
+    if (*minimum > *version)
+        ctx.fail("/asset/minVersion", "minVersion " + least + " is greater than the version, " +
+                                          text + ", which the specification forbids");
+    if (*minimum > std::pair(2, 0))
+        ctx.fail("/asset/minVersion",
+                 "the file needs a glTF " + least + " loader; penumbra reads glTF 2.0");
 }
 
 // "All glTF extensions required to load and/or render an asset MUST be listed in the top-level
@@ -295,6 +340,7 @@ SceneDescription loadGltf(const std::string& path, int sceneIndex) {
     desc.file = path;
     const tinygltf::Model model = parse(path, desc.report);
     const Context ctx{model, path, desc.report};
+    checkVersion(ctx);
     checkExtensions(ctx);
     std::vector<PunctualLightDesc> lights = gltf::readLights(ctx);
     gltf::validateModel(ctx, lights.size());

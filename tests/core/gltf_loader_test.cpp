@@ -565,6 +565,31 @@ TEST_F(GltfLoaderTest, UnsupportedRequiredExtension) {
                 "KHR_draco_mesh_compression");
 }
 
+// The asset's version (glTF 2.0, "Asset"): a 1.0 file, a version that is not one, a minVersion
+// above the version or above 2.0 are refused at /asset; a 2.1 file without a minVersion loads.
+TEST_F(GltfLoaderTest, AssetVersionsPenumbraCannotRead) {
+    GltfBuilder b;
+    b.addFloats(kTriangle, "VEC3", 3);
+    const std::string json = b.json(oneMesh(R"({"attributes":{"POSITION":0}})"));
+    const auto withAsset = [&](const std::string& asset) {
+        std::string text = json;
+        const std::string from = R"("asset":{"version":"2.0"})";
+        text.replace(text.find(from), from.size(), R"("asset":)" + asset);
+        return text;
+    };
+    expectError(write("v1.gltf", withAsset(R"({"version":"1.0"})")), "/asset/version",
+                "penumbra reads glTF 2.0");
+    expectError(write("vx.gltf", withAsset(R"({"version":"2"})")), "/asset/version",
+                "not a glTF version");
+    expectError(write("min.gltf", withAsset(R"({"version":"2.1","minVersion":"2.1"})")),
+                "/asset/minVersion", "needs a glTF 2.1 loader");
+    expectError(write("over.gltf", withAsset(R"({"version":"2.0","minVersion":"2.1"})")),
+                "/asset/minVersion", "greater than the version");
+    EXPECT_NO_THROW(loadGltf(write("v21.gltf", withAsset(R"({"version":"2.1"})")), -1));
+    EXPECT_NO_THROW(
+        loadGltf(write("min20.gltf", withAsset(R"({"version":"2.0","minVersion":"2.0"})")), -1));
+}
+
 TEST_F(GltfLoaderTest, NanPosition) {
     GltfBuilder b;
     std::vector<float> p = kTriangle;
