@@ -2,11 +2,12 @@
 // the page, so that counter-clockwise in the plane is counter-clockwise seen from the front).
 // Its edges and the segments are snap rounded (CGAL's Snap_rounding_2, exact arithmetic:
 // Hobby 1999, "Practical segment intersection with finite precision output"; the iterated form
-// of Halperin and Packer 2002) to a grid a millionth of the triangle's size, so that they meet
-// only at shared vertices however nearly they coincide or cross; then triangulated by CGAL's
-// constrained Delaunay triangulation with them as constraints, and refined by CGAL's Delaunay
-// mesher with a shape criterion only: no size bound, since the radiosity mesh subdivides each
-// piece itself. The snapped outline's vertices are put back on the triangle's exact edges.
+// of Halperin and Packer 2002) to a grid a millionth of the triangle's least height, so that
+// they meet only at shared vertices however nearly they coincide or cross; then triangulated by
+// CGAL's constrained Delaunay triangulation with them as constraints, and refined by CGAL's
+// Delaunay mesher with a shape criterion only: no size bound, since the radiosity mesh
+// subdivides each piece itself. The snapped outline's points are put back on the triangle's
+// exact edges, and the input's end points where they were.
 #include "radiosity/triangle_pieces.h"
 
 #include <CGAL/Constrained_Delaunay_triangulation_2.h>
@@ -50,8 +51,8 @@ constexpr double kShapeBound = 0.125;
 // Refinement steps allowed per vertex of the input: Ruppert's algorithm terminates for input
 // angles of 60 degrees or more; a segment meeting an edge at a tiny angle need not.
 constexpr int kStepsPerInputVertex = 16;
-// The least resolution, relative to the triangle's longest edge: a few float ulps of barycentrics.
-// Also the snap rounding's pixel.
+// The least resolution, relative to the triangle's least height: a few float ulps of the
+// barycentric coordinate across it. Also the snap rounding's pixel.
 constexpr double kLeastResolution = 1e-6;
 // The most resolution, relative to the triangle's least height: features are joined within the
 // triangle, not across it (a thin triangle would otherwise have every point put on its edges).
