@@ -40,6 +40,11 @@ double triangleArea(const std::array<Vec3, 3>& corners) {
     return glm::length(glm::cross(glm::dvec3(corners[1]) - c0, glm::dvec3(corners[2]) - c0)) / 2.0;
 }
 
+float longestEdge(const std::array<Vec3, 3>& corners) {
+    return std::max({glm::distance(corners[0], corners[1]), glm::distance(corners[1], corners[2]),
+                     glm::distance(corners[2], corners[0])});
+}
+
 // The pieces of a triangle 5 m on a side cut by a segment and another that ends `gap` (in
 // barycentric units) beside it: their signed areas in the triangle's plane.
 std::vector<double> piecesBesideASegment(float gap, float resolution) {
@@ -181,9 +186,7 @@ void expectAProperCut(const RandomCut& input, float resolution, const TrianglePi
 
     // In the triangle's barycentric plane (b1, b2) scaled to metres along the longest edge: the
     // tolerance is the resolution the cut may join features within, plus float rounding.
-    const double size = std::max({glm::distance(input.corners[0], input.corners[1]),
-                                  glm::distance(input.corners[1], input.corners[2]),
-                                  glm::distance(input.corners[2], input.corners[0])});
+    const double size = longestEdge(input.corners);
     const glm::dvec3 e1(input.corners[1] - input.corners[0]);
     const glm::dvec3 e2(input.corners[2] - input.corners[0]);
     const glm::dvec3 u = glm::normalize(e1), v = glm::normalize(glm::cross(glm::cross(e1, e2), e1));
@@ -216,10 +219,7 @@ TEST(TrianglePieces, RandomCutsCoverTheTriangleAndFollowTheirSegments) {
     for (int trial = 0; trial < 300; ++trial) {
         const RandomCut input = drawCut(rng, trial % 3 == 0);
         for (const double fraction : {0.0, 0.01}) {
-            const float size = std::max({glm::distance(input.corners[0], input.corners[1]),
-                                         glm::distance(input.corners[1], input.corners[2]),
-                                         glm::distance(input.corners[2], input.corners[0])});
-            const float resolution = float(fraction) * size;
+            const float resolution = float(fraction) * longestEdge(input.corners);
             const TrianglePieces cut = cutTriangle(input.corners, input.segments, resolution);
             expectAProperCut(input, resolution, cut,
                              "trial " + std::to_string(trial) + ", resolution " +
