@@ -71,6 +71,8 @@ class DirectIrradiance {
         }
         return Color(0.0f);
     }
+    // The sources' part of D, whatever show() says: D less the transferred flux.
+    Color sources(int node) const { return D_[static_cast<size_t>(node)]; }
     // The sources' deposited flux's part of D (the caustic photons'): zero without deposits.
     Color depositedSources(int node) const;
     // The punctual lights' part of D, whatever show() says.

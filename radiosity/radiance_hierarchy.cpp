@@ -43,8 +43,10 @@ void RadianceHierarchy::resize() {
     H_.resize(nodes, Color(0.0f));
     G_.resize(nodes, Mat3(0.0f));
     Hchild_.resize(nodes, {Color(0.0f), Color(0.0f), Color(0.0f), Color(0.0f)});
-    if (!correction_.empty())
+    if (!correction_.empty()) {
         correction_.resize(nodes, Color(0.0f));
+        directCorrection_.resize(nodes, Color(0.0f));
+    }
     if (!direct_.empty())
         direct_.resize(nodes, Color(0.0f));
 }
@@ -54,8 +56,10 @@ void RadianceHierarchy::inherit(int childNode, int parentNode) {
     L_[child] = L_[parent];
     Lmin_[child] = Lmax_[child] = maxComponent(L_[parent]);
     // The final gather's correction is its patch side's, the same for every leaf of it.
-    if (!correction_.empty())
+    if (!correction_.empty()) {
         correction_[child] = correction_[parent];
+        directCorrection_[child] = directCorrection_[parent];
+    }
     if (!direct_.empty())
         direct_[child] = direct_[parent];
 }
@@ -357,6 +361,10 @@ void RadianceHierarchy::computeDirectPart(DirectIrradiance& irradiance) {
     std::vector<SecondMoment> clusterQ = clusterQ_;
     std::vector<float> Lmin = Lmin_, Lmax = Lmax_, clusterLmin = clusterLmin_,
                        clusterLmax = clusterLmax_;
+    // The links' first reflection alone: the final gather's correction of it is kept apart
+    // (directCorrection_), and the rest of its correction is indirect light.
+    std::vector<Color> correction;
+    std::swap(correction, correction_);
     // The emission at every node (a parent's: its leaves' area mean, as a source shows it).
     irradiance.show(DirectIrradiance::Part::None);
     std::fill(H_.begin(), H_.end(), Color(0.0f));
@@ -394,18 +402,23 @@ void RadianceHierarchy::computeDirectPart(DirectIrradiance& irradiance) {
     clusterM_ = std::move(clusterM);
     clusterLmin_ = std::move(clusterLmin);
     clusterLmax_ = std::move(clusterLmax);
+    correction_ = std::move(correction);
 }
 
 Color RadianceHierarchy::elementDirect(int e, bool side) const {
     const auto n = static_cast<size_t>(node(e, side));
-    return n < direct_.size() ? direct_[n] : Color(0.0f);
+    if (n >= direct_.size())
+        return Color(0.0f);
+    if (n >= directCorrection_.size())
+        return direct_[n];
+    return glm::max(direct_[n] + directCorrection_[n], Color(0.0f));
 }
 
 Color RadianceHierarchy::elementIndirect(int e, bool side) const {
     const int n = node(e, side);
     if (static_cast<size_t>(n) >= direct_.size() || !mesh_.isLeaf(e))
         return Color(0.0f);
-    return glm::max(L_[n] - emission(n) - direct_[n], Color(0.0f));
+    return glm::max(L_[n] - emission(n) - elementDirect(e, side), Color(0.0f));
 }
 
 }  // namespace penumbra

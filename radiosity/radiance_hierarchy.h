@@ -96,10 +96,15 @@ class RadianceHierarchy {
     size_t directPartBytes() const { return direct_.size() * sizeof(Color); }
 
     // The final gather's correction (RadiositySolver::finalGather): zero, then `delta` added to a
-    // leaf side's.
-    void clearCorrection() { correction_.assign(L_.size(), Color(0.0f)); }
-    void addCorrection(int node, const Color& delta) {
+    // leaf side's, of which `directShare` corrects the first reflection of the sources (it moves
+    // from elementIndirect to elementDirect).
+    void clearCorrection() {
+        correction_.assign(L_.size(), Color(0.0f));
+        directCorrection_.assign(L_.size(), Color(0.0f));
+    }
+    void addCorrection(int node, const Color& delta, const Color& directShare) {
         correction_[static_cast<size_t>(node)] += delta;
+        directCorrection_[static_cast<size_t>(node)] += directShare;
     }
 
   private:
@@ -129,9 +134,10 @@ class RadianceHierarchy {
     std::vector<std::array<Color, 4>> Hchild_;
     std::vector<float> Lmin_, Lmax_;  // range of max(L) over the node's leaves
     std::vector<Color> direct_;       // the first reflection of the sources (elementDirect)
-    // What the final gather adds to each leaf side's radiance beyond the links' transfer; empty
-    // without a final gather.
+    // What the final gather adds to each leaf side's radiance beyond the links' transfer, and the
+    // part of it that is the first reflection of the sources; empty without a final gather.
     std::vector<Color> correction_;
+    std::vector<Color> directCorrection_;
 
     // Per cluster (empty without clustering).
     std::vector<Color> clusterL_, clusterH_;

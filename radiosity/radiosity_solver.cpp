@@ -151,7 +151,7 @@ void RadiositySolver::finalGather(Deadline deadline) {
         const std::string stage = "final gather " + std::to_string(pass);
         beginStage(stage + ": rays", mesh_.leafCount());
         const uint64_t raysBefore = finalGather_->rays();
-        const double relativeChange = finalGather_->pass(leaves, progress_);
+        const double relativeChange = finalGather_->pass(leaves, pass == 1, progress_);
         std::ostringstream summary;
         summary.precision(3);
         summary << finalGather_->rays() - raysBefore << " rays, change " << relativeChange;
