@@ -4,7 +4,7 @@ comparisons with Blender Cycles whose material models would otherwise differ fro
 
 Not a test and not part of the build: a benchmark helper. Usage:
 
-    bench/lambertian_variant.py SCENE.gltf OUT.gltf
+    bench/lambertian_variant.py [--without-transmissive] SCENE.gltf OUT.gltf
 
 Each material keeps its base colour (factor and texture) and its emission; it loses its metallic
 and specular reflection (metallicFactor 0, roughnessFactor 1, KHR_materials_specular
@@ -16,6 +16,9 @@ specular layer on top of an undiminished diffuse one, where glTF's dielectric ta
 light the Fresnel term leaves; and the harness's conversion to a Diffuse closure drops alpha
 masks. With only Lambertian materials both renderers compute the same integral, so a difference
 is the lights', the geometry's or the textures'.
+
+With --without-transmissive, the nodes whose mesh has a transmissive material (glass) lose the
+mesh instead: made Lambertian, a pane would be an opaque white board.
 
 The copy's buffers, images and the environment recorded in `scenes[0].extras` point back to the
 original files by relative paths, so it can be written anywhere on the same file system.
@@ -49,13 +52,33 @@ def lambertian(material):
     material.pop("alphaCutoff", None)
 
 
+def transmits(material):
+    return "KHR_materials_transmission" in material.get("extensions", {})
+
+
+def remove_transmissive_meshes(document):
+    """Takes the mesh off every node whose mesh has a transmissive primitive."""
+    materials = document.get("materials", [])
+    glass = {i for i, mesh in enumerate(document.get("meshes", []))
+             if any("material" in p and transmits(materials[p["material"]])
+                    for p in mesh["primitives"])}
+    for node in document.get("nodes", []):
+        if node.get("mesh") in glass:
+            del node["mesh"]
+
+
 def main():
-    if len(sys.argv) != 3:
-        raise SystemExit("usage: lambertian_variant.py SCENE.gltf OUT.gltf")
-    source, out = sys.argv[1], sys.argv[2]
+    args = sys.argv[1:]
+    without_transmissive = "--without-transmissive" in args
+    args = [a for a in args if a != "--without-transmissive"]
+    if len(args) != 2:
+        raise SystemExit("usage: lambertian_variant.py [--without-transmissive] SCENE.gltf OUT.gltf")
+    source, out = args
     with open(source) as f:
         document = json.load(f)
     rebase_files(document, source, out)
+    if without_transmissive:
+        remove_transmissive_meshes(document)
     for material in document.get("materials", []):
         lambertian(material)
     used = set(document.get("extensionsUsed", [])) - set(DROPPED_EXTENSIONS)

@@ -81,11 +81,9 @@ FinalGather::FinalGather(const Scene& scene, const RadiosityMesh& mesh,
 // about three quarters of what per leaf gains: walls 0.954 -> 0.960 (0.961 per leaf) of the path
 // tracer.
 double FinalGather::pass(const std::vector<int>& leaves, bool first, SolveProgress* progress) {
-    if (first) {
-        emittersReflected_.clear();
+    if (first)
         tableEmitters();
-    }
-    const std::vector<Color> gathered = gatherIndirect(leaves, progress);
+    const std::vector<Color> gathered = gatherIndirect(leaves, first, progress);
     // The change of each patch side's correction: the exposed-area mean of G + G_e less the
     // reflected light the links give its leaves besides D's, rho D; and, in the first pass, of
     // its part in the first reflection, G_e less the links' first reflection of the emission
@@ -163,6 +161,8 @@ float FinalGather::emitterPdf(int entry, const Vec3& x, const Vec3& z, const Vec
 // estimate of the same light (G_e above).
 Color FinalGather::emissionSeen(const ElementSample& x, const Vec3& normal, const Vec3& w,
                                 const MeshedHit& y) const {
+    if (emitterNodes_.empty())
+        return Color(0.0f);
     const auto [e, side] =
         leafSideSeenAt(scene_, mesh_, exposure_.coincident(), y.point.element, y.front, y.hit.p);
     const int n = node(mesh_.patch(e), side);
@@ -204,13 +204,12 @@ Color FinalGather::emittersIrradiance(const ElementSample& x, const Vec3& normal
            (cosine / (kPi * lightPdf) * powerHeuristic(lightPdf, cosine * kInvPi));
 }
 
-// G of pass() for every exposed side of `leaves` that reflects, per node; -1 elsewhere. The
-// first time, G_e too (emittersReflected_).
-std::vector<Color> FinalGather::gatherIndirect(const std::vector<int>& leaves,
+// G of pass() for every exposed side of `leaves` that reflects, per node; -1 elsewhere. With
+// `withEmitters`, G_e too (emittersReflected_).
+std::vector<Color> FinalGather::gatherIndirect(const std::vector<int>& leaves, bool withEmitters,
                                                SolveProgress* progress) {
     const auto n = static_cast<uint32_t>(raysPerSide_);
     std::vector<Color> gathered(radiance_.nodeCount(), Color(-1.0f));
-    const bool withEmitters = emittersReflected_.empty();
     if (withEmitters)
         emittersReflected_.assign(radiance_.nodeCount(), Color(0.0f));
     tbb::combinable<uint64_t> rays([] { return uint64_t(0); });

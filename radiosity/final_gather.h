@@ -38,7 +38,8 @@ class FinalGather {
     uint64_t rays() const { return rays_; }  // all passes'
 
   private:
-    std::vector<Color> gatherIndirect(const std::vector<int>& leaves, SolveProgress* progress);
+    std::vector<Color> gatherIndirect(const std::vector<int>& leaves, bool withEmitters,
+                                      SolveProgress* progress);
     void tableEmitters();
     float emitterPdf(int entry, const Vec3& x, const Vec3& z, const Vec3& nz) const;
     Color emissionSeen(const ElementSample& x, const Vec3& normal, const Vec3& w,
@@ -59,7 +60,7 @@ class FinalGather {
     std::vector<int> emitterEntry_;
     int raysPerSide_;
     // Per node, the first reflection of the emitters' light that the first pass gathered (the
-    // same rays in every pass); -1 where none was gathered.
+    // same rays in every pass); zero where none was gathered.
     std::vector<Color> emittersReflected_;
     uint64_t rays_ = 0;
 };
